@@ -1,0 +1,163 @@
+// granflow command line: run a case file, list the shipped cases, print a model's parameters.
+#include "core/errors.h"
+#include "models/registry.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace
+{
+  const char *usage = R"(granflow: finite-element simulator for dense granular flows
+
+Usage:
+  granflow run CASE.prm [--set Section/key=value ...] [--output DIR] [--quiet]
+  granflow print-parameters MODEL     every entry with default, range and help
+  granflow list-cases                 the case files shipped in cases/
+  granflow --help | --version
+
+Models: dp (nonsmooth Drucker-Prager, Daviet & Bertails-Descoubes 2016)
+
+Results go to DIR (default results/<case name>): solution.pvd (open in ParaView),
+summary.json, profiles/*.csv, log.txt. Plot a profile with scripts/plot.
+
+Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far kept).
+)";
+
+  std::filesystem::path
+  cases_directory()
+  {
+    if (std::filesystem::is_directory("cases"))
+      return "cases";
+    return std::filesystem::path(GRANFLOW_SOURCE_DIR) / "cases";
+  }
+
+  int
+  list_cases()
+  {
+    std::vector<std::filesystem::path> files;
+    for (const auto &entry : std::filesystem::recursive_directory_iterator(cases_directory()))
+      if (entry.path().extension() == ".prm")
+        files.push_back(entry.path());
+    std::sort(files.begin(), files.end());
+    for (const auto &f : files)
+      {
+        // The first comment line of a case file says what it is.
+        std::ifstream in(f);
+        std::string   line, title;
+        while (std::getline(in, line))
+          if (line.rfind("#", 0) == 0)
+            {
+              title = line.substr(line.find_first_not_of("# "));
+              break;
+            }
+        std::cout << f.string() << "\n    " << title << "\n";
+      }
+    return 0;
+  }
+
+  int
+  print_parameters(const std::string &model)
+  {
+    for (const auto &m : granflow::models())
+      if (m.name == model)
+        {
+          dealii::ParameterHandler prm;
+          m.print_parameters(prm);
+          prm.print_parameters(std::cout, dealii::ParameterHandler::Text);
+          return 0;
+        }
+    std::cerr << "granflow: unknown model '" << model << "': expected one of";
+    for (const auto &m : granflow::models())
+      std::cerr << ' ' << m.name;
+    std::cerr << '\n';
+    return granflow::exit_status::bad_input;
+  }
+
+  int
+  run(const std::vector<std::string> &args)
+  {
+    granflow::RunRequest request;
+    for (std::size_t i = 0; i < args.size(); ++i)
+      {
+        const std::string &a = args[i];
+        if ((a == "--set" || a == "--output") && i + 1 == args.size())
+          throw granflow::InputError(a + ": missing value");
+        if (a == "--set")
+          request.overrides.push_back(granflow::parse_override(args[++i]));
+        else if (a.rfind("--set=", 0) == 0)
+          request.overrides.push_back(granflow::parse_override(a.substr(6)));
+        else if (a == "--output")
+          request.output_directory = args[++i];
+        else if (a == "--quiet")
+          request.quiet = true;
+        else if (a.rfind("--", 0) == 0)
+          throw granflow::InputError("unknown option '" + a + "' (see granflow --help)");
+        else if (request.case_file.empty())
+          request.case_file = a;
+        else
+          throw granflow::InputError("unexpected argument '" + a + "': one case file per run");
+      }
+    if (request.case_file.empty())
+      throw granflow::InputError("run: missing CASE.prm (see granflow --help)");
+    const auto summary = granflow::run_case(request);
+    const std::string dir = summary.value("output_directory", std::string());
+    std::cout << "\nDone. Results in " << dir << ":\n"
+              << "  " << dir << "/solution.pvd       open with: paraview " << dir << "/solution.pvd\n"
+              << "  " << dir << "/summary.json       key results\n"
+              << "  " << dir << "/profiles/*.csv     plot with: scripts/plot " << dir
+              << "/profiles/velocity.csv\n"
+              << "  " << dir << "/log.txt            iteration tables\n";
+    return 0;
+  }
+} // namespace
+
+int
+main(int argc, char **argv)
+{
+  const std::vector<std::string> args(argv + 1, argv + argc);
+  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help")
+    {
+      std::cout << usage;
+      return args.empty() ? granflow::exit_status::bad_input : 0;
+    }
+  if (args[0] == "--version")
+    {
+      std::cout << "granflow " << GRANFLOW_VERSION << '\n';
+      return 0;
+    }
+  try
+    {
+      if (args[0] == "run")
+        return run({args.begin() + 1, args.end()});
+      if (args[0] == "list-cases")
+        return list_cases();
+      if (args[0] == "print-parameters")
+        {
+          if (args.size() != 2)
+            throw granflow::InputError("print-parameters: expected one MODEL (e.g. dp)");
+          return print_parameters(args[1]);
+        }
+      throw granflow::InputError("unknown command '" + args[0] + "' (see granflow --help)");
+    }
+  catch (const granflow::InputError &e)
+    {
+      std::cerr << "granflow: error: " << e.what() << '\n';
+      return granflow::exit_status::bad_input;
+    }
+  catch (const granflow::ConvergenceError &e)
+    {
+      std::cerr << "granflow: not converged: " << e.what() << '\n';
+      return granflow::exit_status::not_converged;
+    }
+  catch (const std::exception &e)
+    {
+      std::cerr << "granflow: internal error: " << e.what() << '\n';
+      return granflow::exit_status::internal_error;
+    }
+}

@@ -1,0 +1,50 @@
+// Replays a dumped cone problem (Solver/Dump cone problem) with each inner solver and writes the
+// wall time, fixed-point iterations and time per iteration as JSON (sand6's d6_solvePrimal idea).
+#include "solvers/cone_problem.h"
+
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+
+int
+main(int argc, char **argv)
+{
+  using namespace granflow::solvers;
+  if (argc < 2)
+    {
+      std::cerr << "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg ...]\n";
+      return 2;
+    }
+  const ConeProblemData data      = load_cone_problem(argv[1]);
+  const double          tolerance = argc > 2 ? std::stod(argv[2]) : 1e-6;
+  std::vector<std::string> names;
+  for (int i = 3; i < argc; ++i)
+    names.emplace_back(argv[i]);
+  if (names.empty())
+    names = {"pg", "apgd", "spg"};
+  nlohmann::json results = nlohmann::json::array();
+  for (const auto &name : names)
+    {
+      ConeSolverOptions options;
+      options.inner_solver         = parse_inner_solver(name);
+      options.tolerance            = tolerance;
+      options.residual             = ResidualKind::fischer_burmeister;
+      options.max_outer_iterations = 1000;
+      options.max_inner_iterations = 20000;
+      ConeSolution solution;
+      const auto   stats = solve_cone_problem(data, options, solution);
+      results.push_back({{"inner_solver", name},
+                         {"converged", stats.converged},
+                         {"residual", stats.residual},
+                         {"time_factorize_s", stats.time_factorize},
+                         {"time_solve_s", stats.time_solve},
+                         {"time_total_s", stats.time_factorize + stats.time_solve},
+                         {"fixed_point_iterations", stats.outer_iterations},
+                         {"inner_iterations", stats.inner_iterations},
+                         {"W_applications", stats.operator_applications},
+                         {"time_per_fixed_point_iteration_s",
+                          stats.time_solve / std::max(1u, stats.outer_iterations)}});
+    }
+  std::cout << results.dump(2) << '\n';
+  return 0;
+}

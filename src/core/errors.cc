@@ -1,0 +1,12 @@
+#include "core/errors.h"
+
+namespace granflow
+{
+  InputError::InputError(const std::string &file, const std::string &entry, const std::string &what)
+    : std::runtime_error(file + ": entry '" + entry + "': " + what)
+  {}
+
+  InputError::InputError(const std::string &message)
+    : std::runtime_error(message)
+  {}
+} // namespace granflow

@@ -1,0 +1,35 @@
+// Error types that map to the exit status of the command line (README, "Exit status"):
+// InputError -> 2 (bad case file, value out of range, missing or unusable mesh),
+// ConvergenceError -> 3 (a solver did not converge; results written so far are kept).
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace granflow
+{
+  /// Bad input. The message names the file, the entry and what was expected, e.g.
+  /// "cases/x.prm: entry 'Rheology/mu' = -1 is out of range: expected a number in [0, inf)".
+  class InputError : public std::runtime_error
+  {
+  public:
+    InputError(const std::string &file, const std::string &entry, const std::string &what);
+    explicit InputError(const std::string &message);
+  };
+
+  /// A solver stopped without reaching its tolerance.
+  class ConvergenceError : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
+  /// Exit status of the command line for each outcome.
+  namespace exit_status
+  {
+    constexpr int success          = 0;
+    constexpr int internal_error   = 1;
+    constexpr int bad_input        = 2;
+    constexpr int not_converged    = 3;
+  } // namespace exit_status
+} // namespace granflow

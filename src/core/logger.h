@@ -1,0 +1,46 @@
+// Run log: everything goes to <output>/log.txt; the console gets the same lines unless quiet.
+// Progress lines (for runs longer than a few seconds) go to the console only, at most every
+// `progress_interval` seconds.
+#pragma once
+
+#include <chrono>
+#include <fstream>
+#include <ostream>
+#include <sstream>
+#include <string>
+
+namespace granflow
+{
+  class Logger
+  {
+  public:
+    Logger(const std::string &log_file, bool echo_to_console);
+
+    /// Writes a line (or block ending in '\n') to the log file and, if echoing, to stdout.
+    void
+    print(const std::string &text);
+
+    /// A stream whose contents are printed by flush_table(); used for solver iteration tables.
+    std::ostream &
+    table()
+    {
+      return table_buffer;
+    }
+    void
+    flush_table();
+
+    /// Console-only progress, throttled.
+    void
+    progress(const std::string &text);
+
+    double
+    elapsed() const;
+
+  private:
+    std::ofstream                         file;
+    bool                                  echo;
+    std::ostringstream                    table_buffer;
+    std::chrono::steady_clock::time_point start, last_progress;
+    double                                progress_interval = 2.;
+  };
+} // namespace granflow

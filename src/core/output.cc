@@ -1,0 +1,105 @@
+#include "core/output.h"
+
+#include "core/errors.h"
+
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace granflow
+{
+  namespace fs = std::filesystem;
+
+  namespace
+  {
+    fs::path
+    normalised(const std::string &path)
+    {
+      fs::path p = fs::path(path).lexically_normal();
+      return p.filename().empty() ? p.parent_path() : p;
+    }
+  } // namespace
+
+  OutputDirectory::OutputDirectory(const std::string &path)
+    : final_path(normalised(path).string())
+    , root((normalised(path).parent_path() / ("." + normalised(path).filename().string() + ".staging"))
+             .string())
+  {
+    std::error_code ec;
+    fs::remove_all(root, ec);
+    fs::create_directories(fs::path(root) / "profiles", ec);
+    if (ec)
+      throw InputError("--output " + path + ": cannot create the output directory (" + ec.message() + ")");
+  }
+
+  OutputDirectory::~OutputDirectory()
+  {
+    std::error_code ec;
+    if (!committed)
+      fs::remove_all(root, ec);
+  }
+
+  void
+  OutputDirectory::commit()
+  {
+    if (committed)
+      return;
+    fs::create_directories(final_path);
+    for (const auto &entry : fs::recursive_directory_iterator(root))
+      {
+        const fs::path target = fs::path(final_path) / fs::relative(entry.path(), root);
+        if (entry.is_directory())
+          fs::create_directories(target);
+        else
+          fs::rename(entry.path(), target);
+      }
+    fs::remove_all(root);
+    root      = final_path;
+    committed = true;
+  }
+
+  std::string
+  OutputDirectory::file(const std::string &name) const
+  {
+    return (fs::path(root) / name).string();
+  }
+
+  void
+  OutputDirectory::write_text(const std::string &name, const std::string &content) const
+  {
+    const std::string target = file(name), tmp = target + ".tmp";
+    {
+      std::ofstream out(tmp);
+      out << content;
+      if (!out)
+        throw std::runtime_error("cannot write " + tmp);
+    }
+    fs::rename(tmp, target);
+  }
+
+  void
+  OutputDirectory::write_json(const std::string &name, const nlohmann::json &json) const
+  {
+    write_text(name, json.dump(2) + "\n");
+  }
+
+  void
+  OutputDirectory::write_csv(const std::string                      &name,
+                             const std::vector<std::string>         &header,
+                             const std::vector<std::vector<double>> &columns) const
+  {
+    std::ostringstream s;
+    for (std::size_t j = 0; j < header.size(); ++j)
+      s << (j ? "," : "") << header[j];
+    s << '\n' << std::setprecision(10);
+    const std::size_t rows = columns.empty() ? 0 : columns[0].size();
+    for (std::size_t i = 0; i < rows; ++i)
+      {
+        for (std::size_t j = 0; j < columns.size(); ++j)
+          s << (j ? "," : "") << columns[j][i];
+        s << '\n';
+      }
+    write_text(name, s.str());
+  }
+} // namespace granflow

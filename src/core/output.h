@@ -1,0 +1,61 @@
+// The output directory (DESIGN.md "Output directory"): summary.json, profiles/*.csv, log.txt and the
+// VTU/PVD files. All writing of CSV and JSON lives here. A run writes into a staging directory
+// beside the target; commit() moves its files into the target. A run that ends in bad input never
+// commits, so nothing a user already has in the target is lost or left half-written.
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace granflow
+{
+  class OutputDirectory
+  {
+  public:
+    /// Creates the staging directory (and profiles/); throws InputError if it cannot.
+    explicit OutputDirectory(const std::string &path);
+    /// Removes the staging directory unless committed.
+    ~OutputDirectory();
+    OutputDirectory(const OutputDirectory &) = delete;
+    OutputDirectory &operator=(const OutputDirectory &) = delete;
+
+    /// Moves every staged file into the target directory (replacing files of the same name).
+    void
+    commit();
+
+    /// The target directory, as the user named it.
+    const std::string &
+    target() const
+    {
+      return final_path;
+    }
+
+    const std::string &
+    path() const
+    {
+      return root;
+    }
+    std::string
+    file(const std::string &name) const;
+
+    /// Writes `content` to `name` atomically (temporary file + rename).
+    void
+    write_text(const std::string &name, const std::string &content) const;
+
+    void
+    write_json(const std::string &name, const nlohmann::json &json) const;
+
+    /// CSV with a header row; columns[0] is the coordinate along the line.
+    void
+    write_csv(const std::string                      &name,
+              const std::vector<std::string>         &header,
+              const std::vector<std::vector<double>> &columns) const;
+
+  private:
+    std::string final_path;
+    std::string root; // staging directory while running, target after commit()
+    bool        committed = false;
+  };
+} // namespace granflow

@@ -1,0 +1,167 @@
+#include "core/parameters.h"
+
+#include "core/errors.h"
+
+#include <deal.II/base/exceptions.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace granflow
+{
+  namespace
+  {
+    std::string
+    trim(const std::string &s)
+    {
+      const auto b = s.find_first_not_of(" \t\n\r");
+      if (b == std::string::npos)
+        return "";
+      const auto e = s.find_last_not_of(" \t\n\r");
+      return s.substr(b, e - b + 1);
+    }
+
+    /// deal.II's messages span several lines; a user gets them on one.
+    std::string
+    one_line(const dealii::ExceptionBase &e)
+    {
+      std::ostringstream info;
+      e.print_info(info);
+      std::string       out;
+      bool              space = false;
+      for (const char c : info.str())
+        {
+          if (std::isspace(static_cast<unsigned char>(c)))
+            space = !out.empty();
+          else
+            {
+              if (space)
+                out += ' ';
+              out += c;
+              space = false;
+            }
+        }
+      return out;
+    }
+
+    void
+    require_readable(const std::string &file)
+    {
+      if (!std::filesystem::is_regular_file(file) || !std::ifstream(file))
+        throw InputError(file + ": cannot open the case file (no such readable file)");
+    }
+  } // namespace
+
+  Override
+  parse_override(const std::string &argument)
+  {
+    const auto eq = argument.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError("--set " + argument + ": expected Section/key=value");
+    return {trim(argument.substr(0, eq)), trim(argument.substr(eq + 1))};
+  }
+
+  std::string
+  read_model_name(const std::string &case_file)
+  {
+    require_readable(case_file);
+    dealii::ParameterHandler prm;
+    prm.declare_entry("Model", "", dealii::Patterns::Anything(), "");
+    try
+      {
+        prm.parse_input(case_file, "", true);
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        throw InputError(case_file + ": " + one_line(e));
+      }
+    const std::string model = trim(prm.get("Model"));
+    if (model.empty())
+      throw InputError(case_file, "Model", "missing: the case file must say 'set Model = dp' (see "
+                                           "`granflow print-parameters dp`)");
+    return model;
+  }
+
+  void
+  parse_case_file(dealii::ParameterHandler    &prm,
+                  const std::string           &case_file,
+                  const std::vector<Override> &overrides)
+  {
+    require_readable(case_file);
+    try
+      {
+        prm.parse_input(case_file, "", false, true);
+      }
+    catch (const dealii::ExceptionBase &e)
+      {
+        throw InputError(case_file + ": " + one_line(e));
+      }
+    for (const Override &o : overrides)
+      {
+        const std::vector<std::string> path = split_list(o.path, '/');
+        if (path.empty())
+          throw InputError("--set " + o.path + "=" + o.value + ": empty entry name");
+        try
+          {
+            for (std::size_t i = 0; i + 1 < path.size(); ++i)
+              prm.enter_subsection(path[i]);
+            prm.set(path.back(), o.value);
+            for (std::size_t i = 0; i + 1 < path.size(); ++i)
+              prm.leave_subsection();
+          }
+        catch (const dealii::ExceptionBase &e)
+          {
+            throw InputError("--set " + o.path + "=" + o.value + ": " + one_line(e));
+          }
+      }
+  }
+
+  void
+  require_positive(const double value, const std::string &file, const std::string &entry)
+  {
+    if (!(value > 0.))
+      {
+        std::ostringstream s;
+        s << "value " << value << " is out of range: expected a number > 0";
+        throw InputError(file, entry, s.str());
+      }
+  }
+
+  std::vector<std::string>
+  split_list(const std::string &list, const char separator)
+  {
+    std::vector<std::string> items;
+    std::stringstream        in(list);
+    std::string              item;
+    while (std::getline(in, item, separator))
+      if (!trim(item).empty())
+        items.push_back(trim(item));
+    return items;
+  }
+
+  std::vector<std::pair<std::string, double>>
+  parse_named_values(const std::string &list, const std::string &file, const std::string &entry)
+  {
+    std::vector<std::pair<std::string, double>> result;
+    for (const std::string &item : split_list(list))
+      {
+        const auto colon = item.find(':');
+        try
+          {
+            if (colon == std::string::npos)
+              throw std::invalid_argument("");
+            std::size_t used  = 0;
+            const auto  value = std::stod(item.substr(colon + 1), &used);
+            if (trim(item.substr(colon + 1 + used)) != "")
+              throw std::invalid_argument("");
+            result.emplace_back(trim(item.substr(0, colon)), value);
+          }
+        catch (const std::exception &)
+          {
+            throw InputError(file, entry, "cannot read '" + item + "': expected 'boundary: number'");
+          }
+      }
+    return result;
+  }
+} // namespace granflow

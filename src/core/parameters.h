@@ -1,0 +1,47 @@
+// Case files: deal.II ParameterHandler files in which every entry has a default, a range (pattern)
+// and a help text. Reading a case turns every deal.II parse error into one InputError that names
+// the file, the entry and the expected range. Only core/ and apps/ read files (DESIGN.md).
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace granflow
+{
+  /// A `--set Section/key=value` override from the command line.
+  struct Override
+  {
+    std::string path; // "Section/Subsection/key"
+    std::string value;
+  };
+
+  /// Parses "Section/key=value"; throws InputError on a malformed argument.
+  Override
+  parse_override(const std::string &argument);
+
+  /// Reads the top-level entry `Model` of a case file without knowing the model's entries.
+  std::string
+  read_model_name(const std::string &case_file);
+
+  /// Parses `case_file` into `prm` (whose entries are already declared), then applies the
+  /// overrides. Unknown entries, values outside their range and unreadable files end in InputError.
+  void
+  parse_case_file(dealii::ParameterHandler    &prm,
+                  const std::string           &case_file,
+                  const std::vector<Override> &overrides);
+
+  /// Throws InputError(file, entry, "...") unless value > 0 (for ranges Patterns cannot express).
+  void
+  require_positive(double value, const std::string &file, const std::string &entry);
+
+  /// Splits "a, b, c" into trimmed non-empty items.
+  std::vector<std::string>
+  split_list(const std::string &list, char separator = ',');
+
+  /// Parses "name: value, name: value" into pairs; throws InputError naming file and entry.
+  std::vector<std::pair<std::string, double>>
+  parse_named_values(const std::string &list, const std::string &file, const std::string &entry);
+} // namespace granflow

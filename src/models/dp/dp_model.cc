@@ -1,0 +1,685 @@
+// Daviet & Bertails-Descoubes 2016, Sections 4.1-4.5 and 6.1-6.3; see dp_model.h.
+#include "models/dp/dp_model.h"
+
+#include "core/errors.h"
+#include "core/parameters.h"
+#include "geometry/geometry.h"
+#include "postprocess/analytic.h"
+#include "postprocess/profiles.h"
+#include "rheology/drucker_prager.h"
+#include "solvers/cone_problem.h"
+
+#include <deal.II/base/quadrature_lib.h>
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/vector_tools.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+namespace granflow::dp
+{
+  namespace
+  {
+    using namespace dealii;
+    constexpr int          dim = 2;
+    constexpr unsigned int s_d = rheology::n_sym<dim>; // 3 components per constraint point
+    using SymVector            = rheology::SymVector<dim>;
+
+    /// Symmetric 3-point rule exact for degree 2 with positive weights (DESIGN.md): the
+    /// constraint points of the P1d stress, so that R is square and invertible per element.
+    Quadrature<dim>
+    constraint_rule()
+    {
+      return Quadrature<dim>({Point<dim>(1. / 6., 1. / 6.), Point<dim>(2. / 3., 1. / 6.),
+                              Point<dim>(1. / 6., 2. / 3.)},
+                             {1. / 6., 1. / 6., 1. / 6.});
+    }
+
+    /// Values at the vertices of the linear function taking the values v_q at the points of
+    /// constraint_rule(): point q has barycentric weight 2/3 on vertex q, so V = (2 I - J/3) v.
+    std::array<double, 3>
+    vertex_values_from_points(const std::array<double, 3> &v)
+    {
+      const double sum = v[0] + v[1] + v[2];
+      return {2. * v[0] - sum / 3., 2. * v[1] - sum / 3., 2. * v[2] - sum / 3.};
+    }
+
+    class Problem
+    {
+    public:
+      Problem(const Parameters &prm, OutputDirectory &out, Logger &log)
+        : prm(prm)
+        , out(out)
+        , log(log)
+        , mapping(FE_SimplexP<dim>(1))
+        , fe_u(FE_SimplexP<dim>(2), dim)
+        , p1d(prm.solver.stress_element == "P1d")
+        , fe_s(p1d ? static_cast<const FiniteElement<dim> &>(fe_dgp1) :
+                     static_cast<const FiniteElement<dim> &>(fe_p1))
+      {}
+
+      Results
+      run();
+
+    private:
+      void
+      make_mesh();
+      void
+      setup();
+      void
+      assemble_velocity_operator(const std::vector<double> &eta);
+      void
+      assemble_constraint_operator();
+      solvers::ConeSolverStats
+      solve_cone_problem();
+      std::vector<double>
+      viscosity_from_velocity() const;
+      void
+      postprocess(Results &results);
+      void
+      write_vtu();
+
+      const Parameters &prm;
+      OutputDirectory  &out;
+      Logger           &log;
+
+      geometry::Mesh     mesh;
+      MappingFE<dim>     mapping;
+      FESystem<dim>      fe_u;
+      FE_SimplexP<dim>   fe_p1{1};
+      FE_SimplexDGP<dim> fe_dgp1{1};
+      const bool         p1d;
+      const FiniteElement<dim> &fe_s;
+      DoFHandler<dim>    dof_u, dof_s;
+      QGaussSimplex<dim> quadrature{3};
+
+      std::map<types::global_dof_index, double> dirichlet;  // dof -> u_D
+      std::vector<int>                          free_index; // dof -> free dof or -1
+      std::size_t                               n_free = 0;
+      std::size_t                               n_points = 0;
+      std::vector<double>                       point_weight; // int alpha_i, or JxW of the point
+      std::vector<Point<dim>>                   point_location;
+      // Fields on the stress space (P1d or P1), one per quantity, for output and boundary integrals.
+      std::map<std::string, Vector<double>>     stress_fields;
+
+      solvers::ConeProblemData data;
+      solvers::ConeSolution    solution;
+      Vector<double>           u; // all velocity dofs
+      nlohmann::json           timings = nlohmann::json::object();
+      nlohmann::json           solver_json;
+    };
+
+    /// Daviet (25a): a(u, v) = 2/Re int eta (D0(u):D0(v) + b/d div u div v), l(v) = int e_g . v
+    /// + int_{B_N} sigma_ext n . v. A is kept on the free dofs; the Dirichlet lifting moves to l.
+    void
+    Problem::assemble_velocity_operator(const std::vector<double> &eta)
+    {
+      const auto t0 = std::chrono::steady_clock::now();
+      const double  Re = prm.rheology.Re, b = prm.rheology.b;
+      const Tensor<1, dim> e_g = prm.e_g();
+      FEValues<dim> fv(mapping, fe_u, quadrature,
+                       update_values | update_gradients | update_JxW_values | update_quadrature_points);
+      const FEValuesExtractors::Vector velocity(0);
+      const unsigned int n = fe_u.n_dofs_per_cell(), nq = quadrature.size();
+      std::vector<types::global_dof_index> dofs(n);
+      std::vector<std::map<int, double>>   rows(n_free);
+      std::vector<double>                  load(dof_u.n_dofs(), 0.);
+      std::vector<SymmetricTensor<2, dim>> eps(n);
+      std::vector<double>                  div(n);
+      std::size_t                          cell_index = 0;
+      for (const auto &cell : dof_u.active_cell_iterators())
+        {
+          fv.reinit(cell);
+          cell->get_dof_indices(dofs);
+          for (unsigned int q = 0; q < nq; ++q, ++cell_index)
+            {
+              const double w = 2. / Re * eta[cell_index] * fv.JxW(q);
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  eps[i] = deviator(fv[velocity].symmetric_gradient(i, q));
+                  div[i] = fv[velocity].divergence(i, q);
+                  load[dofs[i]] += e_g * fv[velocity].value(i, q) * fv.JxW(q);
+                }
+              for (unsigned int i = 0; i < n; ++i)
+                {
+                  if (free_index[dofs[i]] < 0)
+                    continue;
+                  auto &row = rows[free_index[dofs[i]]];
+                  for (unsigned int j = 0; j < n; ++j)
+                    {
+                      const double a = w * (eps[i] * eps[j] + b / dim * div[i] * div[j]);
+                      if (free_index[dofs[j]] >= 0)
+                        row[free_index[dofs[j]]] += a;
+                      else
+                        load[dofs[i]] -= a * dirichlet.at(dofs[j]);
+                    }
+                }
+            }
+        }
+
+      // Neumann boundaries (21): traction sigma_ext n = -p_ext n.
+      const auto pressures =
+        parse_named_values(prm.boundaries.external_pressure, prm.case_file,
+                           "Boundary conditions/External pressure");
+      if (!pressures.empty())
+        {
+          QGauss<dim - 1>   face_quadrature(3);
+          FEFaceValues<dim> fvf(mapping, fe_u, face_quadrature,
+                                update_values | update_normal_vectors | update_JxW_values);
+          for (const auto &[name, p_ext] : pressures)
+            {
+              const types::boundary_id id = mesh.id(name, prm.case_file);
+              for (const auto &cell : dof_u.active_cell_iterators())
+                for (const unsigned int f : cell->face_indices())
+                  if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
+                    {
+                      fvf.reinit(cell, f);
+                      cell->get_dof_indices(dofs);
+                      for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                        for (unsigned int i = 0; i < n; ++i)
+                          load[dofs[i]] += -p_ext * fvf.normal_vector(q) *
+                                           fvf[velocity].value(i, q) * fvf.JxW(q);
+                    }
+            }
+        }
+
+      data.A        = solvers::CsrMatrix();
+      data.A.n_rows = data.A.n_cols = n_free;
+      data.A.row_start.push_back(0);
+      for (const auto &row : rows)
+        {
+          for (const auto &[j, a] : row)
+            {
+              data.A.column.push_back(j);
+              data.A.value.push_back(a);
+            }
+          data.A.row_start.push_back(static_cast<int>(data.A.column.size()));
+        }
+      data.l.assign(n_free, 0.);
+      for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
+        if (free_index[i] >= 0)
+          data.l[free_index[i]] = load[i];
+      timings["assemble_A"] = timings.value("assemble_A", 0.) +
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+
+    /// Daviet (34b)/(35b): gamma = H u + k with H = R^{+T} B. With P1d stress and constraints at
+    /// the quadrature points, R is invertible per element and gamma_q = JxW_q 2 chi^{-1}(D(u)(x_q));
+    /// with continuous P1 stress at the nodes, gamma_i = int alpha_i 2 chi^{-1}(D(u)) (B exact,
+    /// m by the trapezoidal rule). Either way H^T lambda = int D(v) : lambda_h (Property 1).
+    void
+    Problem::assemble_constraint_operator()
+    {
+      const FEValuesExtractors::Vector velocity(0);
+      const Quadrature<dim> rule = p1d ? constraint_rule() : Quadrature<dim>(quadrature);
+      FEValues<dim>         fv(mapping, fe_u, rule,
+                       update_gradients | update_JxW_values | update_quadrature_points);
+      FEValues<dim>         fv_s(mapping, fe_s, rule, update_values);
+      const unsigned int    n = fe_u.n_dofs_per_cell(), ns = fe_s.n_dofs_per_cell();
+      std::vector<types::global_dof_index> dofs(n), sdofs(ns);
+      std::vector<std::map<int, double>>   rows(n_points * s_d);
+      data.k.assign(n_points * s_d, 0.);
+      point_weight.assign(n_points, 0.);
+      point_location.assign(n_points, Point<dim>());
+      if (!p1d)
+        DoFTools::map_dofs_to_support_points(mapping, dof_s, point_location);
+
+      auto add_point = [&](const std::size_t point, const double weight, const unsigned int q) {
+        point_weight[point] += weight;
+        for (unsigned int i = 0; i < n; ++i)
+          {
+            const SymVector g = rheology::chi_inverse<dim>(fv[velocity].symmetric_gradient(i, q));
+            for (unsigned int c = 0; c < s_d; ++c)
+              {
+                const double h = 2. * weight * g[c];
+                if (h == 0.)
+                  continue;
+                if (free_index[dofs[i]] >= 0)
+                  rows[point * s_d + c][free_index[dofs[i]]] += h;
+                else
+                  data.k[point * s_d + c] += h * dirichlet.at(dofs[i]);
+              }
+          }
+      };
+
+      auto cell_s = dof_s.begin_active();
+      for (const auto &cell : dof_u.active_cell_iterators())
+        {
+          fv.reinit(cell);
+          cell->get_dof_indices(dofs);
+          if (p1d)
+            for (unsigned int q = 0; q < rule.size(); ++q)
+              {
+                const std::size_t point = cell->active_cell_index() * rule.size() + q;
+                point_location[point]   = fv.quadrature_point(q);
+                add_point(point, fv.JxW(q), q);
+              }
+          else
+            {
+              fv_s.reinit(cell_s);
+              cell_s->get_dof_indices(sdofs);
+              for (unsigned int q = 0; q < rule.size(); ++q)
+                for (unsigned int a = 0; a < ns; ++a)
+                  add_point(sdofs[a], fv_s.shape_value(a, q) * fv.JxW(q), q);
+            }
+          ++cell_s;
+        }
+
+      data.H        = solvers::CsrMatrix();
+      data.H.n_rows = n_points * s_d;
+      data.H.n_cols = n_free;
+      data.H.row_start.push_back(0);
+      for (const auto &row : rows)
+        {
+          for (const auto &[j, h] : row)
+            {
+              data.H.column.push_back(j);
+              data.H.value.push_back(h);
+            }
+          data.H.row_start.push_back(static_cast<int>(data.H.column.size()));
+        }
+      data.block_size = s_d;
+      data.mu.assign(n_points, prm.rheology.mu);
+      data.Bi.assign(n_points, prm.rheology.Bi);
+    }
+
+    void
+    Problem::make_mesh()
+    {
+      const auto &g   = prm.geometry;
+      const auto  msh = out.file("mesh.msh");
+      const auto &f   = prm.case_file;
+      if (g.shape == "channel")
+        geometry::make_channel(mesh, g.channel_length, g.channel_width, g.mesh_size, msh, f);
+      else if (g.shape == "square patch")
+        geometry::make_square_patch(mesh, g.patch_size, g.mesh_size, msh, f);
+      else if (g.shape == "half silo")
+        geometry::make_half_silo(mesh, g.silo_width, g.silo_height, g.aperture, g.outlet_extension,
+                                 g.mesh_size, msh, f);
+      else if (g.shape == "cylinder channel")
+        geometry::make_cylinder_channel(mesh, g.channel_length, g.channel_width, g.cylinder_diameter,
+                                        g.mesh_size, msh, f);
+      else
+        geometry::read_mesh_file(mesh, g.mesh_file, f);
+      if (g.refinements > 0)
+        mesh.triangulation.refine_global(g.refinements);
+    }
+
+    void
+    Problem::setup()
+    {
+      dof_u.reinit(mesh.triangulation);
+      dof_u.distribute_dofs(fe_u);
+      dof_s.reinit(mesh.triangulation);
+      dof_s.distribute_dofs(fe_s);
+
+      const auto &bc  = prm.boundaries;
+      const auto  add = [&](const std::string &list, const std::string &entry, const ComponentMask &mask) {
+        for (const std::string &name : split_list(list))
+          {
+            std::map<types::global_dof_index, double> values;
+            VectorTools::interpolate_boundary_values(mapping, dof_u, mesh.id(name, prm.case_file),
+                                                     Functions::ZeroFunction<dim>(dim), values, mask);
+            dirichlet.insert(values.begin(), values.end());
+          }
+        (void)entry;
+      };
+      add(bc.no_slip, "No-slip", ComponentMask());
+      add(bc.zero_x_velocity, "Zero x-velocity", ComponentMask(std::vector<bool>{true, false}));
+      add(bc.zero_y_velocity, "Zero y-velocity", ComponentMask(std::vector<bool>{false, true}));
+      // Every named boundary of the load must exist too (checked before anything is solved).
+      for (const auto &[name, p] :
+           parse_named_values(bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
+        mesh.id(name, prm.case_file);
+      for (const std::string &name : {prm.output.drag_boundary, prm.output.inflow_boundary})
+        if (!name.empty())
+          mesh.id(name, prm.case_file);
+
+      free_index.assign(dof_u.n_dofs(), -1);
+      for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
+        if (dirichlet.count(i) == 0)
+          free_index[i] = static_cast<int>(n_free++);
+      n_points = p1d ? mesh.triangulation.n_active_cells() * 3 : dof_s.n_dofs();
+      u.reinit(dof_u.n_dofs());
+
+      std::ostringstream s;
+      s << "Mesh: " << mesh.triangulation.n_active_cells() << " triangles, "
+        << mesh.triangulation.n_vertices() << " vertices; velocity P2: " << dof_u.n_dofs()
+        << " dofs (" << n_free << " free); stress " << prm.solver.stress_element << ": " << n_points
+        << " constraint points\n";
+      log.print(s.str());
+    }
+
+    solvers::ConeSolverStats
+    Problem::solve_cone_problem()
+    {
+      solvers::ConeSolverOptions options;
+      options.inner_solver         = solvers::parse_inner_solver(prm.solver.inner_solver);
+      options.residual             = prm.solver.residual == "alart-curnier" ?
+                                       solvers::ResidualKind::alart_curnier :
+                                       solvers::ResidualKind::fischer_burmeister;
+      options.tolerance            = prm.solver.tolerance;
+      options.max_outer_iterations = prm.solver.max_outer_iterations;
+      options.max_inner_iterations = prm.solver.max_inner_iterations;
+      options.log                  = &log.table();
+      if (!prm.solver.dump_cone_problem.empty())
+        solvers::save_cone_problem(data, out.file(prm.solver.dump_cone_problem));
+      const auto stats = solvers::solve_cone_problem(data, options, solution);
+      log.flush_table();
+
+      for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
+        u[i] = free_index[i] >= 0 ? solution.u[free_index[i]] : dirichlet.at(i);
+      return stats;
+    }
+
+    /// Daviet 6.1.3: eta = |D(u)| = sqrt(D:D / 2) at the quadrature points of a(., .), bounded
+    /// below by the viscosity floor (eta -> 0 at the free surface would make A singular).
+    std::vector<double>
+    Problem::viscosity_from_velocity() const
+    {
+      FEValues<dim> fv(mapping, fe_u, quadrature, update_gradients);
+      const FEValuesExtractors::Vector        velocity(0);
+      std::vector<SymmetricTensor<2, dim>>    D(quadrature.size());
+      std::vector<double>                     eta;
+      for (const auto &cell : dof_u.active_cell_iterators())
+        {
+          fv.reinit(cell);
+          fv[velocity].get_function_symmetric_gradients(u, D);
+          for (const auto &d : D)
+            eta.push_back(std::max(rheology::tensor_norm(d), prm.rheology.viscosity_floor));
+        }
+      return eta;
+    }
+
+    Results
+    Problem::run()
+    {
+      Results results;
+      make_mesh();
+      setup();
+      assemble_constraint_operator();
+
+      const std::size_t n_qp = mesh.triangulation.n_active_cells() * quadrature.size();
+      std::vector<double> eta(n_qp, 1.);
+      const bool          bagnold = prm.rheology.viscosity == "bagnold";
+      unsigned int        viscosity_iterations = 0;
+      double              change               = 0.;
+      solvers::ConeSolverStats stats;
+      unsigned int outer_total = 0, inner_total = 0;
+      double       solve_time = 0., factorize_time = 0.;
+      for (;;)
+        {
+          assemble_velocity_operator(eta);
+          const Vector<double> u_old = u;
+          stats = solve_cone_problem();
+          outer_total += stats.outer_iterations;
+          inner_total += stats.inner_iterations;
+          solve_time += stats.time_solve;
+          factorize_time += stats.time_factorize;
+          ++viscosity_iterations;
+          std::ostringstream s;
+          s << "  solve " << viscosity_iterations << ": " << stats.outer_iterations
+            << " fixed-point iterations, residual " << stats.residual << ", " << stats.time_solve << " s";
+          if (!stats.converged)
+            break;
+          if (!bagnold)
+            {
+              log.print(s.str() + "\n");
+              break;
+            }
+          Vector<double> diff = u;
+          diff -= u_old;
+          change = diff.l2_norm() / std::max(u.l2_norm(), 1e-300);
+          s << ", viscosity fixed point: relative change of u " << change;
+          log.print(s.str() + "\n");
+          log.progress("viscosity iteration " + std::to_string(viscosity_iterations));
+          if (change <= prm.solver.viscosity_tolerance ||
+              viscosity_iterations == prm.solver.viscosity_iterations)
+            break;
+          eta = viscosity_from_velocity();
+        }
+
+      solver_json = {{"inner_solver", prm.solver.inner_solver},
+                     {"residual_kind", prm.solver.residual},
+                     {"tolerance", prm.solver.tolerance},
+                     {"converged", stats.converged},
+                     {"residual", stats.residual},
+                     {"fixed_point_iterations", outer_total},
+                     {"inner_iterations", inner_total},
+                     {"viscosity_iterations", viscosity_iterations},
+                     {"viscosity_relative_change", change},
+                     {"time_factorize_s", factorize_time},
+                     {"time_solve_s", solve_time}};
+      postprocess(results);
+      if (prm.output.write_vtu)
+        write_vtu();
+      results.summary["timings"] = timings;
+      results.summary["timings"]["total_s"] = log.elapsed();
+      out.write_json("summary.json", results.summary);
+
+      if (!stats.converged)
+        {
+          std::ostringstream s;
+          s << "the Cadoux fixed point did not reach the tolerance " << prm.solver.tolerance
+            << " (residual " << stats.residual << " after " << stats.outer_iterations
+            << " iterations; raise Solver/Max outer iterations or Max inner iterations). "
+            << "The last iterate was written to " << out.target();
+          throw ConvergenceError(s.str());
+        }
+      if (bagnold && change > prm.solver.viscosity_tolerance)
+        throw ConvergenceError("the viscosity fixed point did not converge in " +
+                               std::to_string(viscosity_iterations) +
+                               " iterations; the last iterate was written to " + out.target());
+      return results;
+    }
+
+    /// Fields at the constraint points (stress lambda; discrete strain rate gamma / (2 w_i), the
+    /// chi-coordinates of D(u) the rheology sees), the zones, profiles, drag and error against the
+    /// analytic reference.
+    void
+    Problem::postprocess(Results &results)
+    {
+      const double sqrt_2_over_d = std::sqrt(2. / dim); // p = sqrt(2/d) lambda_N (Property 2)
+      std::vector<double> p(n_points), tau_xx(n_points), tau_xy(n_points), tau_norm(n_points),
+        lambda_N(n_points), lambda_1(n_points), lambda_2(n_points), D0_norm(n_points), div_u(n_points),
+        zone(n_points);
+      double max_D0 = 0., max_div = 0.;
+      for (std::size_t i = 0; i < n_points; ++i)
+        {
+          const double *l = &solution.lambda[i * s_d], *g = &solution.gamma[i * s_d];
+          const double  w = 2. * point_weight[i];
+          lambda_N[i] = l[0];
+          lambda_1[i] = l[1];
+          lambda_2[i] = l[2];
+          p[i]        = sqrt_2_over_d * l[0];
+          tau_xx[i]   = -l[1]; // tau = -Dev(lambda), chi(0; b, c) = [[b, c], [c, -b]]
+          tau_xy[i]   = -l[2];
+          tau_norm[i] = std::hypot(l[1], l[2]);
+          D0_norm[i]  = std::hypot(g[1], g[2]) / w;
+          div_u[i]    = std::sqrt(2. * dim) * g[0] / w;
+          max_D0      = std::max(max_D0, D0_norm[i]);
+          max_div     = std::max(max_div, div_u[i]);
+        }
+      // Zones: rigid where the deviatoric strain rate vanishes (to 1e-6 of its maximum), dilating
+      // where div u > 1e-6 of the maximum shear rate, flowing otherwise.
+      const double threshold = 1e-6 * std::max(max_D0, 1e-300);
+      std::size_t  n_rigid = 0, n_flowing = 0, n_dilating = 0;
+      for (std::size_t i = 0; i < n_points; ++i)
+        {
+          if (div_u[i] > threshold)
+            zone[i] = 2, ++n_dilating;
+          else if (D0_norm[i] <= threshold)
+            zone[i] = 0, ++n_rigid;
+          else
+            zone[i] = 1, ++n_flowing;
+        }
+
+      // Point values -> stress-space fields (P1d: the linear function through the 3 points).
+      const auto to_field = [&](const std::vector<double> &values) {
+        Vector<double> field(dof_s.n_dofs());
+        if (!p1d)
+          {
+            std::copy(values.begin(), values.end(), field.begin());
+            return field;
+          }
+        std::vector<types::global_dof_index> sdofs(fe_s.n_dofs_per_cell());
+        for (const auto &cell : dof_s.active_cell_iterators())
+          {
+            cell->get_dof_indices(sdofs);
+            const std::size_t base = cell->active_cell_index() * 3;
+            const auto        v    = vertex_values_from_points({values[base], values[base + 1], values[base + 2]});
+            for (unsigned int k = 0; k < 3; ++k)
+              field[sdofs[k]] = v[k];
+          }
+        return field;
+      };
+      stress_fields = {{"pressure", to_field(p)},       {"tau_xx", to_field(tau_xx)},
+                       {"tau_xy", to_field(tau_xy)},     {"tau_norm", to_field(tau_norm)},
+                       {"D0_norm", to_field(D0_norm)},   {"div_u", to_field(div_u)},
+                       {"zone", to_field(zone)},         {"lambda_N", to_field(lambda_N)},
+                       {"lambda_1", to_field(lambda_1)}, {"lambda_2", to_field(lambda_2)}};
+
+      nlohmann::json &S = results.summary;
+      S["case"]         = prm.name;
+      S["case_file"]    = prm.case_file;
+      S["model"]        = "dp";
+      S["rheology"]     = {{"mu", prm.rheology.mu}, {"Bi", prm.rheology.Bi}, {"Re", prm.rheology.Re},
+                           {"b", prm.rheology.b}, {"viscosity", prm.rheology.viscosity}};
+      S["mesh"]         = {{"triangles", mesh.triangulation.n_active_cells()},
+                           {"vertices", mesh.triangulation.n_vertices()},
+                           {"velocity_dofs", dof_u.n_dofs()},
+                           {"free_velocity_dofs", n_free},
+                           {"stress_element", prm.solver.stress_element},
+                           {"constraint_points", n_points}};
+      S["solver"]       = solver_json;
+      S["zones"]        = {{"rigid_points", n_rigid}, {"flowing_points", n_flowing},
+                           {"dilating_points", n_dilating}, {"max_div_u", max_div},
+                           {"max_deviatoric_strain_rate", max_D0}};
+      S["pressure"]     = {{"min", *std::min_element(p.begin(), p.end())},
+                           {"max", *std::max_element(p.begin(), p.end())}};
+
+      // Profile along the line of the case file.
+      const Point<dim> a = parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start");
+      const Point<dim> b = parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end");
+      const auto samples = postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points);
+      // First column: the coordinate that varies along the line (y for a vertical line).
+      const unsigned int axis = std::abs(b[1] - a[1]) >= std::abs(b[0] - a[0]) ? 1 : 0;
+      std::vector<double> coord, ux, uy, shear;
+      for (std::size_t k = 0; k < samples.points.size(); ++k)
+        {
+          coord.push_back(samples.points[k][axis]);
+          ux.push_back(samples.values[k][0]);
+          uy.push_back(samples.values[k][1]);
+          shear.push_back(samples.gradients[k][0][1]); // du_x/dy
+        }
+      std::vector<std::string>         header = {axis ? "y" : "x", "u_x", "u_y", "du_x/dy"};
+      std::vector<std::vector<double>> columns = {coord, ux, uy, shear};
+
+      const std::string &reference = prm.output.reference;
+      if (reference != "none")
+        {
+          std::vector<double> u_ref, shear_ref;
+          const double        Bi = prm.rheology.Bi, Re = prm.rheology.Re, mu = prm.rheology.mu;
+          const double        alpha = std::atan2(prm.e_g()[0], -prm.e_g()[1]);
+          for (const double y : coord)
+            if (reference == "bingham poiseuille")
+              {
+                u_ref.push_back(analytic::bingham_poiseuille_velocity(y, Bi, Re));
+                shear_ref.push_back(analytic::bingham_poiseuille_shear_rate(y, Bi, Re));
+              }
+            else
+              {
+                u_ref.push_back(analytic::bagnold_velocity(y, mu, alpha));
+                shear_ref.push_back(analytic::bagnold_shear_rate(y, mu, alpha));
+              }
+          double max_err = 0., max_ref = 0., max_shear_err = 0., max_shear_ref = 0.;
+          for (std::size_t k = 0; k < coord.size(); ++k)
+            {
+              max_err       = std::max(max_err, std::abs(ux[k] - u_ref[k]));
+              max_ref       = std::max(max_ref, std::abs(u_ref[k]));
+              max_shear_err = std::max(max_shear_err, std::abs(shear[k] - shear_ref[k]));
+              max_shear_ref = std::max(max_shear_ref, std::abs(shear_ref[k]));
+            }
+          header.insert(header.end(), {"u_x_reference", "du_x/dy_reference"});
+          columns.push_back(u_ref);
+          columns.push_back(shear_ref);
+          S["reference"]           = reference;
+          S["max_rel_error"]       = max_err / max_ref;
+          S["max_rel_error_shear"] = max_shear_err / max_shear_ref;
+          if (reference == "bingham poiseuille")
+            {
+              // The plug |y| < Bi must be rigid: D0(u) = 0 at its constraint points.
+              double plug_D0 = 0.;
+              std::size_t plug_points = 0;
+              for (std::size_t i = 0; i < n_points; ++i)
+                if (std::abs(point_location[i][1]) < Bi)
+                  plug_D0 = std::max(plug_D0, D0_norm[i]), ++plug_points;
+              S["plug"] = {{"points", plug_points},
+                           {"max_deviatoric_strain_rate", plug_D0},
+                           {"relative_to_max", plug_D0 / std::max(max_D0, 1e-300)}};
+            }
+        }
+      out.write_csv("profiles/velocity.csv", header, columns);
+
+      if (!prm.output.drag_boundary.empty())
+        {
+          // Daviet 6.3.1: F_D = int_{dO} lambda n . e_x, lambda n = (lambda_xx n_x + lambda_xy n_y);
+          // lambda = chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]].
+          const auto id  = mesh.id(prm.output.drag_boundary, prm.case_file);
+          Vector<double> l_xx = stress_fields["lambda_N"], l_xy = stress_fields["lambda_2"];
+          l_xx += stress_fields["lambda_1"];
+          const double F_D = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
+                             postprocess::boundary_flux(mapping, dof_s, l_xy, id)[1];
+          S["drag"] = F_D;
+          if (!prm.output.inflow_boundary.empty())
+            {
+              const auto [flux, length] = postprocess::boundary_normal_flux(
+                mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
+              const double U_inf = -flux / length, D = prm.geometry.cylinder_diameter;
+              S["U_infinity"]        = U_inf;
+              S["Froude"]            = U_inf / std::sqrt(D);
+              S["drag_coefficient"]  = F_D / (0.5 * U_inf * U_inf * D);
+            }
+        }
+    }
+
+    void
+    Problem::write_vtu()
+    {
+      DataOut<dim> data_out;
+      data_out.attach_triangulation(mesh.triangulation);
+      const std::vector<std::string> names(dim, "velocity");
+      const std::vector<DataComponentInterpretation::DataComponentInterpretation> vector_part(
+        dim, DataComponentInterpretation::component_is_part_of_vector);
+      data_out.add_data_vector(dof_u, u, names, vector_part);
+      for (const auto &[name, field] : stress_fields)
+        if (name.rfind("lambda_", 0) != 0)
+          data_out.add_data_vector(dof_s, field, name);
+      data_out.build_patches(mapping, 2);
+      std::ostringstream vtu;
+      data_out.write_vtu(vtu);
+      out.write_text("solution-0000.vtu", vtu.str());
+      std::ostringstream pvd;
+      DataOutBase::write_pvd_record(pvd, {{0., std::string("solution-0000.vtu")}});
+      out.write_text("solution.pvd", pvd.str());
+    }
+  } // namespace
+
+  Results
+  run(const Parameters &parameters, OutputDirectory &output, Logger &log)
+  {
+    Problem problem(parameters, output, log);
+    return problem.run();
+  }
+} // namespace granflow::dp

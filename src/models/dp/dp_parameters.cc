@@ -1,0 +1,189 @@
+#include "models/dp/dp_parameters.h"
+
+#include "core/errors.h"
+#include "core/parameters.h"
+
+#include <limits>
+
+namespace granflow::dp
+{
+  using dealii::Patterns::Bool;
+  using dealii::Patterns::Double;
+  using dealii::Patterns::Integer;
+  using dealii::Patterns::Selection;
+  using Anything = dealii::Patterns::Anything;
+
+  void
+  Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    prm.add_parameter("Model", model, "Model of this case file: dp (Daviet 2016).",
+                      Selection("dp"));
+    prm.add_parameter("Name", name, "Name of the case, used in summary.json.", Anything());
+    prm.add_parameter("Gravity direction", gravity_direction,
+                      "Unit vector e_g of the dimensionless body force (23), 'x, y'.", Anything());
+
+    prm.enter_subsection("Geometry");
+    {
+      auto &g = geometry;
+      prm.add_parameter("Shape", g.shape,
+                        "Built-in geometry of Daviet 2016 or a user mesh: channel (Fig. 3), "
+                        "square patch (inclined plane, Fig. 6), half silo (Fig. 8), cylinder channel "
+                        "(Fig. 12), file.",
+                        Selection("channel|square patch|half silo|cylinder channel|file"));
+      prm.add_parameter("Mesh file", g.mesh_file,
+                        "Gmsh .msh file with named physical curves (Shape = file).", Anything());
+      prm.add_parameter("Mesh size", g.mesh_size, "Target element size h (units of L), > 0.",
+                        Double(0.));
+      prm.add_parameter("Global refinements", g.refinements,
+                        "Uniform refinements of the generated mesh.", Integer(0, 10));
+      prm.add_parameter("Channel length", g.channel_length, "Channel length H (Fig. 3, Fig. 12), > 0.",
+                        Double(0.));
+      prm.add_parameter("Channel width", g.channel_width, "Channel width (2L in Fig. 3, L in Fig. 12), > 0.",
+                        Double(0.));
+      prm.add_parameter("Cylinder diameter", g.cylinder_diameter,
+                        "Cylinder diameter D (Fig. 12), in (0, channel width).", Double(0.));
+      prm.add_parameter("Patch size", g.patch_size, "Side of the square patch, > 0.", Double(0.));
+      prm.add_parameter("Silo width", g.silo_width, "Half-silo width W (Fig. 8), > 0.", Double(0.));
+      prm.add_parameter("Silo height", g.silo_height, "Half-silo height H (Fig. 8), > 0.", Double(0.));
+      prm.add_parameter("Aperture", g.aperture, "Silo aperture D (full width), > 0.", Double(0.));
+      prm.add_parameter("Outlet extension", g.outlet_extension,
+                        "Depth of the channel added below the outlet (Appendix B), >= 0.", Double(0.));
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Rheology");
+    {
+      auto &r = rheology;
+      prm.add_parameter("mu", r.mu, "Friction coefficient mu of DP(mu, Bi), >= 0.", Double(0.));
+      prm.add_parameter("Bi", r.Bi, "Bingham number Bi = sigma_0 / (rho g L), >= 0.", Double(0.));
+      prm.add_parameter("Re", r.Re, "Reynolds number Re = rho U L / eta, > 0.", Double(0.));
+      prm.add_parameter("b", r.b, "Bulk-viscosity parameter b of D^b(u), >= 0.", Double(0.));
+      prm.add_parameter("Viscosity", r.viscosity,
+                        "constant, or bagnold: eta = |D(u)| by fixed point (Daviet 6.1.3).",
+                        Selection("constant|bagnold"));
+      prm.add_parameter("Viscosity floor", r.viscosity_floor,
+                        "Lower bound of eta for the bagnold law, > 0.", Double(0.));
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Boundary conditions");
+    {
+      auto &b = boundaries;
+      prm.add_parameter("No-slip", b.no_slip, "Boundaries with u = 0, comma-separated names.", Anything());
+      prm.add_parameter("Zero x-velocity", b.zero_x_velocity,
+                        "Boundaries with u_x = 0 (natural condition on u_y).", Anything());
+      prm.add_parameter("Zero y-velocity", b.zero_y_velocity,
+                        "Boundaries with u_y = 0 (natural condition on u_x).", Anything());
+      prm.add_parameter("External pressure", b.external_pressure,
+                        "'name: p_ext, ...': traction -p_ext n on these boundaries (21).", Anything());
+      prm.add_parameter("Analytic traction", b.analytic_traction,
+                        "Boundaries loaded by the traction of the analytic reference (bagnold).",
+                        Anything());
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Solver");
+    {
+      auto &s = solver;
+      prm.add_parameter("Stress element", s.stress_element,
+                        "P1d: discontinuous P1 stress, constraints at the 3 quadrature points of each "
+                        "triangle (Property 3); P1: continuous P1 stress, constraints at the nodes "
+                        "(trapezoidal rule, 4.3.5).",
+                        Selection("P1d|P1"));
+      prm.add_parameter("Inner solver", s.inner_solver,
+                        "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
+                        "spg (spectral projected gradient).",
+                        Selection("pg|apgd|spg"));
+      prm.add_parameter("Residual", s.residual,
+                        "Stopping residual: fischer-burmeister (Bi = 0 points) or alart-curnier.",
+                        Selection("fischer-burmeister|alart-curnier"));
+      prm.add_parameter("Tolerance", s.tolerance, "Infinity norm of the residual to reach, > 0.",
+                        Double(0.));
+      prm.add_parameter("Max outer iterations", s.max_outer_iterations,
+                        "Cadoux fixed-point iterations before giving up.", Integer(1));
+      prm.add_parameter("Max inner iterations", s.max_inner_iterations,
+                        "Inner solver iterations per fixed-point iteration.", Integer(1));
+      prm.add_parameter("Viscosity iterations", s.viscosity_iterations,
+                        "Fixed-point iterations on eta(x) (bagnold).", Integer(1));
+      prm.add_parameter("Viscosity tolerance", s.viscosity_tolerance,
+                        "Relative change of u that ends the eta fixed point, > 0.", Double(0.));
+      prm.add_parameter("Dump cone problem", s.dump_cone_problem,
+                        "If set, the cone problem is written to this file in the output directory "
+                        "(replay with bench/replay_cone_problem).",
+                        Anything());
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    {
+      auto &o = output;
+      prm.add_parameter("Reference", o.reference,
+                        "Analytic reference compared with the profile: none, bingham poiseuille "
+                        "(6.1.1), bagnold (6.1.3).",
+                        Selection("none|bingham poiseuille|bagnold"));
+      prm.add_parameter("Profile start", o.profile_start, "Start 'x, y' of the sampled line.", Anything());
+      prm.add_parameter("Profile end", o.profile_end, "End 'x, y' of the sampled line.", Anything());
+      prm.add_parameter("Profile points", o.profile_points, "Samples along the line.", Integer(2, 100000));
+      prm.add_parameter("Drag boundary", o.drag_boundary,
+                        "Boundary on which the drag F_D = int lambda n . e_x is computed (6.3.1).",
+                        Anything());
+      prm.add_parameter("Inflow boundary", o.inflow_boundary,
+                        "Boundary whose mean velocity is U_infinity (Fr, C_D of 6.3.1).", Anything());
+      prm.add_parameter("Write vtu", o.write_vtu, "Write solution-0000.vtu and solution.pvd.", Bool());
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Parameters::validate() const
+  {
+    const std::string &f = case_file;
+    require_positive(geometry.mesh_size, f, "Geometry/Mesh size");
+    require_positive(rheology.Re, f, "Rheology/Re");
+    require_positive(solver.tolerance, f, "Solver/Tolerance");
+    if (geometry.shape == "file" && geometry.mesh_file.empty())
+      throw InputError(f, "Geometry/Mesh file", "is empty: Shape = file needs a .msh file");
+    if (rheology.viscosity == "bagnold")
+      require_positive(rheology.viscosity_floor, f, "Rheology/Viscosity floor");
+    parse_point(output.profile_start, f, "Output/Profile start");
+    parse_point(output.profile_end, f, "Output/Profile end");
+    e_g();
+  }
+
+  Parameters
+  load_parameters(const std::string &case_file, const std::vector<Override> &overrides)
+  {
+    Parameters               parameters;
+    dealii::ParameterHandler prm;
+    parameters.declare(prm);
+    parse_case_file(prm, case_file, overrides);
+    parameters.case_file = case_file;
+    parameters.validate();
+    return parameters;
+  }
+
+  dealii::Point<2>
+  parse_point(const std::string &text, const std::string &file, const std::string &entry)
+  {
+    const auto items = split_list(text);
+    try
+      {
+        if (items.size() != 2)
+          throw std::invalid_argument("");
+        return dealii::Point<2>(std::stod(items[0]), std::stod(items[1]));
+      }
+    catch (const std::exception &)
+      {
+        throw InputError(file, entry, "'" + text + "' is not a point: expected 'x, y'");
+      }
+  }
+
+  dealii::Tensor<1, 2>
+  Parameters::e_g() const
+  {
+    const dealii::Point<2> g = parse_point(gravity_direction, case_file, "Gravity direction");
+    if (g.norm() == 0.)
+      throw InputError(case_file, "Gravity direction", "is the zero vector: expected a direction");
+    return g / g.norm();
+  }
+} // namespace granflow::dp

@@ -1,0 +1,101 @@
+// Case-file parameters of the dp model (Daviet & Bertails-Descoubes 2016, creeping flow (23)-(24)).
+// One struct per topic; each entry is declared once with its default, range and help text.
+#pragma once
+
+#include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/tensor.h>
+
+#include "core/parameters.h"
+
+#include <string>
+#include <vector>
+
+namespace granflow::dp
+{
+  struct GeometryParameters
+  {
+    std::string  shape             = "channel"; // channel | square patch | half silo | cylinder channel | file
+    std::string  mesh_file         = "";
+    double       mesh_size         = 0.1;
+    unsigned int refinements       = 0;
+    double       channel_length    = 1.;
+    double       channel_width     = 2.;
+    double       cylinder_diameter = 0.25;
+    double       patch_size        = 1.;
+    double       silo_width        = 8.;
+    double       silo_height       = 8.;
+    double       aperture          = 1.;
+    double       outlet_extension  = 1.;
+  };
+
+  struct RheologyParameters
+  {
+    double      mu                = 0.;  // friction coefficient (Mohr-Coulomb sin(phi) in 2D)
+    double      Bi                = 0.;  // Bingham number sigma_0 / (rho g L)
+    double      Re                = 1.;  // Reynolds number rho U L / eta
+    double      b                 = 1.;  // bulk-viscosity parameter of D^b (Section 2)
+    std::string viscosity         = "constant"; // constant | bagnold (eta = |D(u)|, 6.1.3)
+    double      viscosity_floor   = 1e-3; // lower bound of eta for the bagnold law
+  };
+
+  struct BoundaryParameters
+  {
+    std::string no_slip;           // u = 0
+    std::string zero_x_velocity;   // u_x = 0, natural condition on the other component
+    std::string zero_y_velocity;   // u_y = 0
+    std::string external_pressure; // "name: p_ext, ...": traction sigma_ext n = -p_ext n (21)
+    std::string analytic_traction; // "name, ...": traction of the case's analytic reference
+  };
+
+  struct SolverParameters
+  {
+    std::string  stress_element        = "P1d"; // P1d (constraints at quadrature points) | P1 (at nodes)
+    std::string  inner_solver          = "spg"; // pg | apgd | spg
+    std::string  residual              = "fischer-burmeister"; // or alart-curnier
+    double       tolerance             = 1e-6;
+    unsigned int max_outer_iterations  = 500;
+    unsigned int max_inner_iterations  = 5000;
+    unsigned int viscosity_iterations  = 50;
+    double       viscosity_tolerance   = 1e-5;
+    std::string  dump_cone_problem     = ""; // file name under the output directory, empty: none
+  };
+
+  struct OutputParameters
+  {
+    std::string  reference      = "none"; // none | bingham poiseuille | bagnold | cylinder
+    std::string  profile_start  = "-0.5, -1";
+    std::string  profile_end    = "-0.5, 1";
+    unsigned int profile_points = 101;
+    std::string  drag_boundary  = "";   // boundary on which F_D = int lambda n . e_x is reported
+    std::string  inflow_boundary = "";  // boundary whose mean normal velocity is U_infinity
+    bool         write_vtu      = true;
+  };
+
+  struct Parameters
+  {
+    std::string          case_file;
+    std::string          model = "dp";
+    std::string          name  = "dp";
+    GeometryParameters   geometry;
+    RheologyParameters   rheology;
+    std::string          gravity_direction = "0, -1"; // e_g (unit vector after normalisation)
+    BoundaryParameters   boundaries;
+    SolverParameters     solver;
+    OutputParameters     output;
+
+    void
+    declare(dealii::ParameterHandler &prm);
+    /// Checks what the patterns cannot (strict positivity, consistency); throws InputError.
+    void
+    validate() const;
+    dealii::Tensor<1, 2>
+    e_g() const;
+  };
+
+  /// Declares, parses `case_file` with the overrides and validates (InputError on bad input).
+  Parameters
+  load_parameters(const std::string &case_file, const std::vector<Override> &overrides = {});
+
+  dealii::Point<2>
+  parse_point(const std::string &text, const std::string &file, const std::string &entry);
+} // namespace granflow::dp

@@ -1,0 +1,81 @@
+#include "models/registry.h"
+
+#include "core/errors.h"
+#include "core/logger.h"
+#include "core/output.h"
+#include "models/dp/dp_model.h"
+
+#include <filesystem>
+#include <iostream>
+
+namespace granflow
+{
+  namespace
+  {
+    std::string
+    default_output_directory(const std::string &case_file)
+    {
+      return (std::filesystem::path("results") / std::filesystem::path(case_file).stem()).string();
+    }
+
+    nlohmann::json
+    run_dp(const RunRequest &request)
+    {
+      dp::Parameters           parameters;
+      dealii::ParameterHandler prm;
+      parameters.declare(prm);
+      parse_case_file(prm, request.case_file, request.overrides);
+      parameters.case_file = request.case_file;
+      parameters.validate();
+
+      const std::string dir =
+        request.output_directory.empty() ? default_output_directory(request.case_file) :
+                                           request.output_directory;
+      OutputDirectory out(dir);
+      Logger          log(out.file("log.txt"), !request.quiet);
+      std::ostringstream used;
+      prm.print_parameters(used, dealii::ParameterHandler::Text);
+      out.write_text("parameters.prm", used.str());
+      log.print("granflow: case " + request.case_file + " (model dp) -> " + dir + "\n");
+      try
+        {
+          nlohmann::json summary = dp::run(parameters, out, log).summary;
+          out.commit();
+          summary["output_directory"] = out.target();
+          return summary;
+        }
+      catch (const ConvergenceError &)
+        {
+          out.commit(); // what was written so far is kept
+          throw;
+        }
+    }
+  } // namespace
+
+  const std::vector<ModelInfo> &
+  models()
+  {
+    static const std::vector<ModelInfo> list = {
+      {"dp",
+       "nonsmooth Drucker-Prager DP(mu, Bi) creeping flow (Daviet & Bertails-Descoubes 2016)",
+       [](dealii::ParameterHandler &prm) {
+         dp::Parameters p;
+         p.declare(prm);
+       },
+       run_dp}};
+    return list;
+  }
+
+  nlohmann::json
+  run_case(const RunRequest &request)
+  {
+    const std::string name = read_model_name(request.case_file);
+    for (const auto &m : models())
+      if (m.name == name)
+        return m.run(request);
+    std::string known;
+    for (const auto &m : models())
+      known += (known.empty() ? "" : ", ") + m.name;
+    throw InputError(request.case_file, "Model", "unknown model '" + name + "': expected one of " + known);
+  }
+} // namespace granflow

@@ -1,0 +1,61 @@
+#include "solvers/cholmod_solver.h"
+
+#include <cholmod.h>
+
+#include <cstring>
+#include <stdexcept>
+
+namespace granflow::solvers
+{
+  struct CholmodSolver::Impl
+  {
+    cholmod_common  common;
+    cholmod_factor *factor = nullptr;
+    cholmod_dense  *rhs    = nullptr;
+
+    Impl() { cholmod_start(&common); }
+    ~Impl()
+    {
+      if (rhs)
+        cholmod_free_dense(&rhs, &common);
+      if (factor)
+        cholmod_free_factor(&factor, &common);
+      cholmod_finish(&common);
+    }
+  };
+
+  CholmodSolver::CholmodSolver(const CsrMatrix &A)
+    : impl(std::make_unique<Impl>())
+    , n(A.n_rows)
+  {
+    if (A.n_rows != A.n_cols)
+      throw std::invalid_argument("CholmodSolver: matrix is not square");
+    cholmod_common &c = impl->common;
+    // CSR of a symmetric matrix is its CSC; stype = 1 reads the upper triangle only.
+    cholmod_sparse *M = cholmod_allocate_sparse(n, n, A.value.size(), 1, 1, 1, CHOLMOD_REAL, &c);
+    std::memcpy(M->p, A.row_start.data(), sizeof(int) * (n + 1));
+    std::memcpy(M->i, A.column.data(), sizeof(int) * A.column.size());
+    std::memcpy(M->x, A.value.data(), sizeof(double) * A.value.size());
+    impl->factor = cholmod_analyze(M, &c);
+    cholmod_factorize(M, impl->factor, &c);
+    const bool ok = c.status == CHOLMOD_OK && impl->factor->minor == n;
+    cholmod_free_sparse(&M, &c);
+    if (!ok)
+      throw std::runtime_error("CholmodSolver: the velocity operator A is not positive definite "
+                               "(is every rigid motion removed by the Dirichlet boundaries?)");
+    impl->rhs = cholmod_zeros(n, 1, CHOLMOD_REAL, &c);
+  }
+
+  CholmodSolver::~CholmodSolver() = default;
+
+  void
+  CholmodSolver::solve(std::vector<double> &x, const std::vector<double> &b) const
+  {
+    cholmod_common &c = impl->common;
+    std::memcpy(impl->rhs->x, b.data(), sizeof(double) * n);
+    cholmod_dense *sol = cholmod_solve(CHOLMOD_A, impl->factor, impl->rhs, &c);
+    x.resize(n);
+    std::memcpy(x.data(), sol->x, sizeof(double) * n);
+    cholmod_free_dense(&sol, &c);
+  }
+} // namespace granflow::solvers

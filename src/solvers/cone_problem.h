@@ -1,0 +1,104 @@
+// The discrete DP(mu, Bi) problem of Daviet & Bertails-Descoubes 2016, (35)-(36), as plain data:
+//   A u = H^T lambda + l,   gamma = H u + k,   f_DS(lambda_i, gamma_i) = 0 at every constraint point i,
+// with H = R^{+T} B and k = R^{+T} k_D. Eliminating u gives the SOCCP (36):
+//   gamma = W lambda + w,  W = H A^{-1} H^T,  w = H A^{-1} l + k.
+// Data / Options / Stats follow So-bogus: the solver takes the three structs, tunables have their
+// defaults here, and a problem can be dumped to a file and replayed by bench/replay_cone_problem.
+#pragma once
+
+#include "solvers/sparse.h"
+
+#include <iosfwd>
+#include <string>
+#include <vector>
+
+namespace granflow::solvers
+{
+  struct ConeProblemData
+  {
+    unsigned int        block_size = 3; // s(d): 3 in 2D, 6 in 3D
+    CsrMatrix           A;              // SPD velocity operator on the free dofs (25a)
+    CsrMatrix           H;              // n_points * block_size rows: gamma = H u + k
+    std::vector<double> l;              // load on the free dofs, Dirichlet lifting subtracted
+    std::vector<double> k;              // H applied to the Dirichlet lifting
+    std::vector<double> mu;             // friction coefficient per constraint point
+    std::vector<double> Bi;             // Bingham number per constraint point
+
+    std::size_t
+    n_points() const
+    {
+      return mu.size();
+    }
+  };
+
+  enum class InnerSolver
+  {
+    projected_gradient, // PG with backtracking line search (Algorithm 2 + line search)
+    apgd,               // Nesterov's accelerated projected gradient with restart (Heyn 2013)
+    spg                 // spectral projected gradient, Barzilai-Borwein steps (Tasora 2013)
+  };
+
+  enum class ResidualKind
+  {
+    alart_curnier,     // Definition 2, valid for any Bi
+    fischer_burmeister // SOC FB (Daviet et al. 2011), Bi = 0 only
+  };
+
+  struct ConeSolverOptions
+  {
+    InnerSolver  inner_solver = InnerSolver::spg;
+    ResidualKind residual     = ResidualKind::fischer_burmeister; // AC is used where Bi > 0
+    double       tolerance    = 1e-6;  // infinity norm of the residual over the constraint points
+    unsigned int max_outer_iterations = 200;
+    unsigned int max_inner_iterations = 5000;
+    /// The inner SOCQP (37) is solved to inner_tolerance_factor times the current outer residual
+    /// (never below tolerance / 10): early fixed-point iterations need no accurate inner solve.
+    double        inner_tolerance_factor = 0.1;
+    std::ostream *log                    = nullptr; // fixed-column iteration table, if set
+  };
+
+  struct ConeSolverStats
+  {
+    bool         converged            = false;
+    unsigned int outer_iterations     = 0;
+    unsigned int inner_iterations     = 0; // summed over the outer iterations
+    unsigned int operator_applications = 0; // applications of W (one A^{-1} back-solve each)
+    double       residual             = 0.;
+    double       time_factorize       = 0.; // seconds
+    double       time_solve           = 0.; // seconds
+    std::vector<double> residual_history; // per outer iteration
+    std::vector<double> time_history;     // wall time since the solve began, per outer iteration
+  };
+
+  /// Solution, also the warm start: lambda (and u) on entry are the initial guess.
+  struct ConeSolution
+  {
+    std::vector<double> u;      // free velocity dofs
+    std::vector<double> lambda; // stress at the constraint points, chi-coordinates
+    std::vector<double> gamma;  // scaled strain rate at the constraint points, chi-coordinates
+  };
+
+  /// Cadoux's fixed point (Algorithm 1, Section 4.4.1; Bi > 0 through the truncated cone, 4.5.2)
+  /// with the inner SOCQP min_{lambda in K} 1/2 lambda^T W lambda + lambda^T (w + (s; 0)) (37)/(43).
+  /// A is factorised once; W is applied without being assembled.
+  ConeSolverStats
+  solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution);
+
+  /// Residual of DP(mu, Bi) at every point, infinity norm over the points of the Euclidean norms.
+  double
+  cone_residual(const ConeProblemData     &data,
+                ResidualKind               kind,
+                const std::vector<double> &lambda,
+                const std::vector<double> &gamma);
+
+  /// Binary dump and replay (sand6's d6_solvePrimal idea): the whole ConeProblemData.
+  void
+  save_cone_problem(const ConeProblemData &data, const std::string &file);
+  ConeProblemData
+  load_cone_problem(const std::string &file);
+
+  InnerSolver
+  parse_inner_solver(const std::string &name);
+  std::string
+  to_string(InnerSolver s);
+} // namespace granflow::solvers

@@ -1,0 +1,94 @@
+// Binary dump / load of a ConeProblemData, for replaying a solve offline (bench/).
+#include "solvers/cone_problem.h"
+
+#include <cstdint>
+#include <fstream>
+#include <stdexcept>
+
+namespace granflow::solvers
+{
+  namespace
+  {
+    constexpr std::uint64_t magic = 0x67666c6f77636f6eULL; // "gflowcon"
+
+    template <typename T>
+    void
+    write_vector(std::ostream &out, const std::vector<T> &v)
+    {
+      const std::uint64_t size = v.size();
+      out.write(reinterpret_cast<const char *>(&size), sizeof(size));
+      out.write(reinterpret_cast<const char *>(v.data()), sizeof(T) * size);
+    }
+
+    template <typename T>
+    void
+    read_vector(std::istream &in, std::vector<T> &v)
+    {
+      std::uint64_t size = 0;
+      in.read(reinterpret_cast<char *>(&size), sizeof(size));
+      v.resize(size);
+      in.read(reinterpret_cast<char *>(v.data()), sizeof(T) * size);
+    }
+
+    void
+    write_matrix(std::ostream &out, const CsrMatrix &M)
+    {
+      const std::uint64_t dims[2] = {M.n_rows, M.n_cols};
+      out.write(reinterpret_cast<const char *>(dims), sizeof(dims));
+      write_vector(out, M.row_start);
+      write_vector(out, M.column);
+      write_vector(out, M.value);
+    }
+
+    void
+    read_matrix(std::istream &in, CsrMatrix &M)
+    {
+      std::uint64_t dims[2] = {0, 0};
+      in.read(reinterpret_cast<char *>(dims), sizeof(dims));
+      M.n_rows = dims[0];
+      M.n_cols = dims[1];
+      read_vector(in, M.row_start);
+      read_vector(in, M.column);
+      read_vector(in, M.value);
+    }
+  } // namespace
+
+  void
+  save_cone_problem(const ConeProblemData &data, const std::string &file)
+  {
+    std::ofstream out(file, std::ios::binary);
+    if (!out)
+      throw std::runtime_error("cannot write cone problem to '" + file + "'");
+    const std::uint64_t header[2] = {magic, data.block_size};
+    out.write(reinterpret_cast<const char *>(header), sizeof(header));
+    write_matrix(out, data.A);
+    write_matrix(out, data.H);
+    write_vector(out, data.l);
+    write_vector(out, data.k);
+    write_vector(out, data.mu);
+    write_vector(out, data.Bi);
+  }
+
+  ConeProblemData
+  load_cone_problem(const std::string &file)
+  {
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      throw std::runtime_error("cannot read cone problem '" + file + "'");
+    std::uint64_t header[2] = {0, 0};
+    in.read(reinterpret_cast<char *>(header), sizeof(header));
+    if (header[0] != magic)
+      throw std::runtime_error("'" + file + "' is not a granflow cone problem dump");
+    ConeProblemData data;
+    data.block_size = static_cast<unsigned int>(header[1]);
+    read_matrix(in, data.A);
+    read_matrix(in, data.H);
+    read_vector(in, data.l);
+    read_vector(in, data.k);
+    read_vector(in, data.mu);
+    read_vector(in, data.Bi);
+    if (!in)
+      throw std::runtime_error("'" + file + "' is truncated");
+    return data;
+  }
+} // namespace granflow::solvers

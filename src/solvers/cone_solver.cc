@@ -1,0 +1,429 @@
+// Cadoux fixed point with projected-gradient inner solvers for the DP(mu, Bi) cone problem.
+// Daviet & Bertails-Descoubes 2016: Algorithm 1 (4.4.1), SOCQP (37)/(43), PG Algorithm 2 (4.4.3),
+// truncated cone for Bi > 0 (4.5.2). APGD: Nesterov (1983) as adapted by Heyn (2013), with the
+// gradient restart of O'Donoghue & Candes. SPG: Barzilai-Borwein (1988) with the nonmonotone line
+// search of Birgin, Martinez & Raydan, as adapted to SOCQP by Tasora (2013).
+#include "rheology/drucker_prager.h"
+#include "solvers/cholmod_solver.h"
+#include "solvers/cone_problem.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+
+namespace granflow::solvers
+{
+  namespace
+  {
+    using Vector = std::vector<double>;
+    using Clock  = std::chrono::steady_clock;
+
+    double
+    seconds_since(const Clock::time_point t0)
+    {
+      return std::chrono::duration<double>(Clock::now() - t0).count();
+    }
+
+    double
+    dot(const Vector &a, const Vector &b)
+    {
+      double s = 0.;
+      for (std::size_t i = 0; i < a.size(); ++i)
+        s += a[i] * b[i];
+      return s;
+    }
+
+    /// x += t y
+    void
+    add(Vector &x, const double t, const Vector &y)
+    {
+      for (std::size_t i = 0; i < x.size(); ++i)
+        x[i] += t * y[i];
+    }
+
+    /// W = H A^{-1} H^T applied matrix-free (Daviet (36)); counts back-solves.
+    class DelassusOperator
+    {
+    public:
+      DelassusOperator(const ConeProblemData &data, const CholmodSolver &A_inv)
+        : data(data)
+        , A_inv(A_inv)
+      {}
+
+      void
+      apply(Vector &out, const Vector &lambda)
+      {
+        data.H.Tvmult(rhs, lambda);
+        A_inv.solve(velocity, rhs);
+        data.H.vmult(out, velocity);
+        ++applications;
+      }
+
+      /// u = A^{-1} (H^T lambda + l) (35a)
+      void
+      velocity_of(Vector &u, const Vector &lambda) const
+      {
+        Vector r;
+        data.H.Tvmult(r, lambda);
+        add(r, 1., data.l);
+        A_inv.solve(u, r);
+      }
+
+      unsigned int applications = 0;
+
+    private:
+      const ConeProblemData &data;
+      const CholmodSolver   &A_inv;
+      Vector                 rhs, velocity;
+    };
+
+    /// The product of cones K_{mu_i, Bi_i} over the constraint points, blocks of n components.
+    template <std::size_t n>
+    class ConeProduct
+    {
+    public:
+      explicit ConeProduct(const ConeProblemData &data)
+        : data(data)
+      {}
+
+      std::array<double, n>
+      block(const Vector &x, const std::size_t i) const
+      {
+        std::array<double, n> b;
+        std::copy_n(x.begin() + i * n, n, b.begin());
+        return b;
+      }
+
+      void
+      project(Vector &x) const
+      {
+        for (std::size_t i = 0; i < data.n_points(); ++i)
+          {
+            const auto p = rheology::project_onto_truncated_cone(block(x, i), data.mu[i], data.Bi[i]);
+            std::copy(p.begin(), p.end(), x.begin() + i * n);
+          }
+      }
+
+      /// Natural-map residual of the inner SOCQP, max_i || lambda_i - Pi_K(lambda_i - g_i) ||.
+      double
+      projected_gradient_norm(const Vector &lambda, const Vector &g) const
+      {
+        double r = 0.;
+        for (std::size_t i = 0; i < data.n_points(); ++i)
+          {
+            std::array<double, n> y;
+            for (std::size_t j = 0; j < n; ++j)
+              y[j] = lambda[i * n + j] - g[i * n + j];
+            const auto p = rheology::project_onto_truncated_cone(y, data.mu[i], data.Bi[i]);
+            double     s = 0.;
+            for (std::size_t j = 0; j < n; ++j)
+              s += (lambda[i * n + j] - p[j]) * (lambda[i * n + j] - p[j]);
+            r = std::max(r, std::sqrt(s));
+          }
+        return r;
+      }
+
+      double
+      residual(const ResidualKind kind, const Vector &lambda, const Vector &gamma) const
+      {
+        double r = 0.;
+        for (std::size_t i = 0; i < data.n_points(); ++i)
+          {
+            const auto l = block(lambda, i), g = block(gamma, i);
+            const auto f = (kind == ResidualKind::fischer_burmeister && data.Bi[i] == 0.) ?
+                             rheology::f_FB(l, g, data.mu[i]) :
+                             rheology::f_AC(l, g, data.mu[i], data.Bi[i]);
+            r = std::max(r, rheology::norm(f));
+          }
+        return r;
+      }
+
+    private:
+      const ConeProblemData &data;
+    };
+
+    /// State of one inner solve of min 1/2 x^T W x + x^T q over the cone product.
+    struct Quadratic
+    {
+      Vector x, Wx, g; // g = W x + q
+      double J = 0.;
+      void
+      refresh(const Vector &q)
+      {
+        g = Wx;
+        add(g, 1., q);
+        J = 0.5 * dot(x, Wx) + dot(x, q);
+      }
+    };
+
+    template <std::size_t n>
+    class InnerSolverImpl
+    {
+    public:
+      InnerSolverImpl(const ConeProduct<n> &K, DelassusOperator &W, const ConeSolverOptions &options)
+        : K(K)
+        , W(W)
+        , options(options)
+      {}
+
+      /// Minimises from the warm start in `state`; returns the iteration count.
+      unsigned int
+      solve(Quadratic &state, const Vector &q, const double tolerance)
+      {
+        switch (options.inner_solver)
+          {
+            case InnerSolver::projected_gradient:
+              return solve_pg(state, q, tolerance);
+            case InnerSolver::apgd:
+              return solve_apgd(state, q, tolerance);
+            case InnerSolver::spg:
+              return solve_spg(state, q, tolerance);
+          }
+        return 0;
+      }
+
+    private:
+      /// d = Pi_K(x - step g) - x
+      void
+      projected_direction(Vector &d, const Quadratic &s, const double step) const
+      {
+        d = s.x;
+        add(d, -step, s.g);
+        K.project(d);
+        add(d, -1., s.x);
+      }
+
+      /// PG along the projected direction with an exact line search on the quadratic; one
+      /// application of W per iteration. The step grows while full steps are accepted.
+      unsigned int
+      solve_pg(Quadratic &s, const Vector &q, const double tolerance)
+      {
+        Vector       d, Wd;
+        unsigned int it = 0;
+        for (; it < options.max_inner_iterations; ++it)
+          {
+            if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
+              break;
+            projected_direction(d, s, step);
+            W.apply(Wd, d);
+            const double gd = dot(s.g, d), dWd = dot(d, Wd);
+            const double t  = dWd > 0. ? std::min(1., -gd / dWd) : 1.;
+            add(s.x, t, d);
+            add(s.Wx, t, Wd);
+            s.refresh(q);
+            step = t >= 1. ? step * 1.5 : std::max(step * t, 1e-12);
+          }
+        return it;
+      }
+
+      /// Nesterov acceleration with backtracking on the Lipschitz estimate L and gradient restart.
+      unsigned int
+      solve_apgd(Quadratic &s, const Vector &q, const double tolerance)
+      {
+        double       L = 1. / step, theta = 1.;
+        Quadratic    y = s, x_new;
+        Vector       diff;
+        unsigned int it = 0;
+        for (; it < options.max_inner_iterations; ++it)
+          {
+            if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
+              break;
+            for (;;)
+              {
+                x_new.x = y.x;
+                add(x_new.x, -1. / L, y.g);
+                K.project(x_new.x);
+                W.apply(x_new.Wx, x_new.x);
+                x_new.refresh(q);
+                diff = x_new.x;
+                add(diff, -1., y.x);
+                if (x_new.J <= y.J + dot(y.g, diff) + 0.5 * L * dot(diff, diff) + 1e-14 * std::abs(y.J))
+                  break;
+                L *= 2.;
+              }
+            const double theta_new = 0.5 * theta * (std::sqrt(theta * theta + 4.) - theta);
+            const double beta      = theta * (1. - theta) / (theta * theta + theta_new);
+            diff                   = x_new.x;
+            add(diff, -1., s.x);
+            if (dot(y.g, diff) > 0.) // restart when the momentum points uphill
+              {
+                y     = x_new;
+                theta = 1.;
+              }
+            else
+              {
+                y.x = x_new.x;
+                add(y.x, beta, diff);
+                y.Wx = x_new.Wx;
+                add(y.Wx, beta, x_new.Wx);
+                add(y.Wx, -beta, s.Wx);
+                y.refresh(q);
+                theta = theta_new;
+              }
+            s = std::move(x_new);
+            L *= 0.9;
+          }
+        step = 1. / L;
+        return it;
+      }
+
+      /// Spectral projected gradient: Barzilai-Borwein step, nonmonotone Armijo search along the
+      /// projected direction. The objective is quadratic, so the search costs no extra
+      /// application of W: one per iteration.
+      unsigned int
+      solve_spg(Quadratic &s, const Vector &q, const double tolerance)
+      {
+        constexpr unsigned int memory = 10;
+        constexpr double       armijo = 1e-4;
+        std::vector<double>    J_history{s.J};
+        Vector                 d, Wd;
+        unsigned int           it = 0;
+        for (; it < options.max_inner_iterations; ++it)
+          {
+            if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
+              break;
+            projected_direction(d, s, step);
+            W.apply(Wd, d);
+            const double gd = dot(s.g, d), dWd = dot(d, Wd);
+            const double J_max = *std::max_element(J_history.begin(), J_history.end());
+            double       t     = 1.;
+            while (s.J + t * gd + 0.5 * t * t * dWd > J_max + armijo * t * gd && t > 1e-10)
+              // safeguarded quadratic interpolation: on a quadratic it is the exact minimiser
+              t = dWd > 0. ? std::clamp(-gd / dWd, 0.1 * t, 0.5 * t) : 0.5 * t;
+            add(s.x, t, d);
+            add(s.Wx, t, Wd);
+            s.refresh(q);
+            J_history.push_back(s.J);
+            if (J_history.size() > memory)
+              J_history.erase(J_history.begin());
+            const double sy = t * t * dWd, ss = t * t * dot(d, d);
+            step = sy > 0. ? std::clamp(ss / sy, 1e-10, 1e10) : 1e10;
+          }
+        return it;
+      }
+
+      const ConeProduct<n>    &K;
+      DelassusOperator        &W;
+      const ConeSolverOptions &options;
+      double                   step = 1.; // kept across calls: the warm start of the step length
+    };
+
+    template <std::size_t n>
+    ConeSolverStats
+    solve_blocks(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
+    {
+      ConeSolverStats stats;
+      const auto      t0 = Clock::now();
+      CholmodSolver   A_inv(data.A);
+      stats.time_factorize = seconds_since(t0);
+
+      DelassusOperator   W(data, A_inv);
+      ConeProduct<n>     K(data);
+      InnerSolverImpl<n> inner(K, W, options);
+
+      const std::size_t m = data.n_points() * n;
+      // w = H A^{-1} l + k (36)
+      Vector w, Al;
+      A_inv.solve(Al, data.l);
+      data.H.vmult(w, Al);
+      add(w, 1., data.k);
+
+      Quadratic state;
+      state.x = solution.lambda.size() == m ? solution.lambda : Vector(m, 0.);
+      K.project(state.x);
+
+      if (options.log)
+        *options.log << "  Cadoux fixed point (" << to_string(options.inner_solver) << ")\n"
+                     << "   iter      residual   inner   W-apps      time[s]\n";
+      Vector q(m), gamma(m);
+      const auto t1 = Clock::now();
+      for (;;)
+        {
+          // gamma = W lambda + w (Algorithm 1, first line)
+          W.apply(state.Wx, state.x);
+          gamma = state.Wx;
+          add(gamma, 1., w);
+          stats.residual = K.residual(options.residual, state.x, gamma);
+          stats.residual_history.push_back(stats.residual);
+          stats.time_history.push_back(seconds_since(t1));
+          if (options.log)
+            *options.log << std::setw(7) << stats.outer_iterations << std::setw(14) << std::scientific
+                         << std::setprecision(4) << stats.residual << std::setw(8)
+                         << stats.inner_iterations << std::setw(9) << W.applications << std::setw(13)
+                         << std::fixed << std::setprecision(3) << stats.time_history.back() << '\n'
+                         << std::defaultfloat;
+          if (stats.residual <= options.tolerance)
+            {
+              stats.converged = true;
+              break;
+            }
+          if (stats.outer_iterations == options.max_outer_iterations)
+            break;
+          // s_i = mu_i || gamma_{i,T} ||, q = w + (s; 0)   (37)
+          q = w;
+          for (std::size_t i = 0; i < data.n_points(); ++i)
+            q[i * n] += data.mu[i] * rheology::norm_T(K.block(gamma, i));
+          state.refresh(q);
+          const double inner_tolerance =
+            std::max(options.inner_tolerance_factor * stats.residual, 0.1 * options.tolerance);
+          stats.inner_iterations += inner.solve(state, q, inner_tolerance);
+          ++stats.outer_iterations;
+        }
+      stats.time_solve            = seconds_since(t1);
+      stats.operator_applications = W.applications;
+      solution.lambda             = state.x;
+      solution.gamma              = gamma;
+      W.velocity_of(solution.u, state.x);
+      return stats;
+    }
+  } // namespace
+
+  ConeSolverStats
+  solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
+  {
+    if (data.block_size == 3)
+      return solve_blocks<3>(data, options, solution);
+    if (data.block_size == 6)
+      return solve_blocks<6>(data, options, solution);
+    throw std::invalid_argument("solve_cone_problem: block size must be 3 (2D) or 6 (3D)");
+  }
+
+  double
+  cone_residual(const ConeProblemData &data, const ResidualKind kind, const Vector &lambda, const Vector &gamma)
+  {
+    if (data.block_size == 3)
+      return ConeProduct<3>(data).residual(kind, lambda, gamma);
+    return ConeProduct<6>(data).residual(kind, lambda, gamma);
+  }
+
+  InnerSolver
+  parse_inner_solver(const std::string &name)
+  {
+    if (name == "pg")
+      return InnerSolver::projected_gradient;
+    if (name == "apgd")
+      return InnerSolver::apgd;
+    if (name == "spg")
+      return InnerSolver::spg;
+    throw std::invalid_argument("unknown inner solver '" + name + "': expected pg, apgd or spg");
+  }
+
+  std::string
+  to_string(const InnerSolver s)
+  {
+    switch (s)
+      {
+        case InnerSolver::projected_gradient:
+          return "pg";
+        case InnerSolver::apgd:
+          return "apgd";
+        case InnerSolver::spg:
+          return "spg";
+      }
+    return "?";
+  }
+} // namespace granflow::solvers

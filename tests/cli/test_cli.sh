@@ -1,0 +1,68 @@
+#!/usr/bin/env bash
+# Command-line behaviour as a user sees it: help, version, parameters, a run's output directory,
+# and one clear error with exit status 2 for each kind of bad input (DESIGN.md, issue #2 g).
+set -u
+: "${GRANFLOW:?path of the granflow binary}" "${SOURCE_DIR:?source directory}"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+case_file="$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm"
+failures=0 passes=0
+
+check() { # name, expected status, expected text in stderr/stdout, command...
+  local name=$1 status=$2 text=$3
+  shift 3
+  "$@" >out.txt 2>err.txt
+  local got=$?
+  if [ "$got" -ne "$status" ]; then
+    echo "FAIL $name: exit $got, expected $status"; cat err.txt; failures=$((failures + 1)); return
+  fi
+  if ! grep -qF -- "$text" out.txt err.txt; then
+    echo "FAIL $name: output lacks '$text'"; cat out.txt err.txt; failures=$((failures + 1)); return
+  fi
+  if [ "$status" -eq 2 ] && [ "$(wc -l <err.txt)" -ne 1 ]; then
+    echo "FAIL $name: expected one error line, got:"; cat err.txt; failures=$((failures + 1)); return
+  fi
+  echo "ok   $name"; passes=$((passes + 1))
+}
+
+check help 0 "granflow run CASE.prm" "$GRANFLOW" --help
+check version 0 "granflow 0." "$GRANFLOW" --version
+check print-parameters 0 "set mu" "$GRANFLOW" print-parameters dp
+check list-cases 0 "bingham_poiseuille.prm" "$GRANFLOW" list-cases
+check unknown-model 2 "unknown model" "$GRANFLOW" print-parameters nosuchmodel
+check unknown-command 2 "unknown command" "$GRANFLOW" frobnicate
+
+# A run writes the output directory a user opens.
+check run 0 "Results in out" "$GRANFLOW" run "$case_file" --output out --quiet --set "Rheology/Bi=0.3"
+for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.csv; do
+  if [ -s "out/$f" ]; then echo "ok   output $f"; passes=$((passes + 1));
+  else echo "FAIL output $f missing"; failures=$((failures + 1)); fi
+done
+
+# Bad input: one message naming the file and the entry, exit 2, nothing already written lost.
+mkdir -p keep && echo "earlier result" >keep/summary.json
+bad() { check "$1" 2 "$2" "$GRANFLOW" run "$case_file" --output keep --quiet "${@:3}"; }
+printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n  set frobnication = 3\nend\n' >unknown_key.prm
+check unknown-key 2 "frobnication" "$GRANFLOW" run unknown_key.prm --output keep --quiet
+check unknown-key-names-file 2 "unknown_key.prm" "$GRANFLOW" run unknown_key.prm --output keep --quiet
+bad mu-negative "mu" --set "Rheology/mu=-0.1"
+bad Bi-negative "Bi" --set "Rheology/Bi=-1"
+bad Re-zero "Rheology/Re" --set "Rheology/Re=0"
+bad Re-negative "Re" --set "Rheology/Re=-2"
+bad mesh-size-zero "Geometry/Mesh size" --set "Geometry/Mesh size=0"
+bad mesh-size-negative "Mesh size" --set "Geometry/Mesh size=-0.1"
+bad missing-mesh-file "no_such_mesh.msh" --set "Geometry/Shape=file" --set "Geometry/Mesh file=no_such_mesh.msh"
+bad missing-boundary "lid" --set "Boundary conditions/No-slip=bottom, lid"
+check missing-case 2 "nosuch.prm" "$GRANFLOW" run nosuch.prm --output keep
+if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   nothing lost"; passes=$((passes + 1));
+else echo "FAIL bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi
+
+# A solver that cannot converge: exit 3, results so far kept and said so.
+check not-converged 3 "written to" "$GRANFLOW" run "$case_file" --output nc --quiet \
+  --set "Solver/Max outer iterations=1" --set "Solver/Max inner iterations=1" --set "Solver/Tolerance=1e-14"
+if [ -s nc/summary.json ]; then echo "ok   not-converged keeps summary"; passes=$((passes + 1));
+else echo "FAIL not-converged summary missing"; failures=$((failures + 1)); fi
+
+echo "$passes passed, $failures failed"
+[ "$failures" -eq 0 ]

@@ -1,0 +1,186 @@
+// Cadoux fixed point + PG / APGD / SPG on cone problems with a known solution.
+#include "rheology/drucker_prager.h"
+#include "solvers/cholmod_solver.h"
+#include "solvers/cone_problem.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+using namespace granflow::solvers;
+
+namespace
+{
+  CsrMatrix
+  dense_to_csr(const std::vector<std::vector<double>> &M)
+  {
+    CsrMatrix A;
+    A.n_rows = M.size();
+    A.n_cols = M.empty() ? 0 : M[0].size();
+    A.row_start.push_back(0);
+    for (const auto &row : M)
+      {
+        for (std::size_t j = 0; j < row.size(); ++j)
+          if (row[j] != 0.)
+            {
+              A.column.push_back(static_cast<int>(j));
+              A.value.push_back(row[j]);
+            }
+        A.row_start.push_back(static_cast<int>(A.column.size()));
+      }
+    return A;
+  }
+
+  std::vector<std::vector<double>>
+  identity(std::size_t n)
+  {
+    std::vector<std::vector<double>> I(n, std::vector<double>(n, 0.));
+    for (std::size_t i = 0; i < n; ++i)
+      I[i][i] = 1.;
+    return I;
+  }
+
+  /// One constraint point, W = I: gamma = lambda + w. The disjunctive form (4)/(13) gives the
+  /// solution by hand: take-off, sticking or sliding.
+  std::array<double, 3>
+  single_point_lambda(const std::array<double, 3> &w, double mu, double Bi)
+  {
+    const double wT = std::hypot(w[1], w[2]);
+    if (Bi == 0. && w[0] >= 0.)
+      return {0., 0., 0.}; // take-off: gamma = w, gamma_hat = (w_N + mu |w_T|; w_T) in K_{1/mu}
+    if (Bi > 0. && mu == 0.)
+      {
+        const double s = wT <= Bi ? 1. : Bi / wT;
+        return {std::max(0., -w[0]), -s * w[1], -s * w[2]};
+      }
+    if (mu * (-w[0]) >= wT)
+      return {-w[0], -w[1], -w[2]}; // sticking: gamma = 0
+    const double lN = -w[0];        // sliding: gamma_N = 0, lambda_T = -mu lambda_N w_T / |w_T|
+    return {lN, -mu * lN * w[1] / wT, -mu * lN * w[2] / wT};
+  }
+} // namespace
+
+class ConeSolverAllInner : public ::testing::TestWithParam<InnerSolver>
+{};
+
+TEST_P(ConeSolverAllInner, SinglePointMatchesDisjunctiveSolution)
+{
+  std::mt19937                           rng(7);
+  std::uniform_real_distribution<double> U(-1., 1.);
+  int                                    cases[3] = {0, 0, 0};
+  for (int trial = 0; trial < 200; ++trial)
+    {
+      const double          mu = trial % 4 == 0 ? 0. : 0.2 + 0.8 * std::abs(U(rng));
+      const double          Bi = (trial % 4 == 0) ? 0.3 : 0.;
+      std::array<double, 3> w  = {U(rng), U(rng), U(rng)};
+      ConeProblemData       data;
+      data.block_size = 3;
+      data.A          = dense_to_csr(identity(3));
+      data.H          = dense_to_csr(identity(3));
+      data.l          = {w[0], w[1], w[2]};
+      data.k          = {0., 0., 0.};
+      data.mu         = {mu};
+      data.Bi         = {Bi};
+      ConeSolverOptions options;
+      options.inner_solver = GetParam();
+      options.residual     = ResidualKind::alart_curnier;
+      options.tolerance    = 1e-10;
+      ConeSolution solution;
+      const auto   stats = solve_cone_problem(data, options, solution);
+      ASSERT_TRUE(stats.converged) << "trial " << trial;
+      const auto expected = single_point_lambda(w, mu, Bi);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(solution.lambda[c], expected[c], 1e-8) << "trial " << trial << " mu " << mu;
+      const double wT = std::hypot(w[1], w[2]);
+      ++cases[Bi > 0. ? 0 : (w[0] >= 0. ? 0 : (mu * -w[0] >= wT ? 1 : 2))];
+    }
+  EXPECT_GT(cases[1], 0);
+  EXPECT_GT(cases[2], 0);
+}
+
+TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers)
+{
+  // A random SPD A (10 dofs), H coupling 3 points: solve, then check f_AC = 0 at every point with
+  // gamma recomputed from u, and u = A^{-1}(H^T lambda + l).
+  std::mt19937                           rng(11);
+  std::uniform_real_distribution<double> U(-1., 1.);
+  const std::size_t                      n = 10, points = 3;
+  std::vector<std::vector<double>>       G(n, std::vector<double>(n)), A(n, std::vector<double>(n, 0.));
+  for (auto &row : G)
+    for (double &g : row)
+      g = U(rng);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j)
+      {
+        for (std::size_t k = 0; k < n; ++k)
+          A[i][j] += G[i][k] * G[j][k];
+        A[i][j] += i == j ? 0.5 : 0.;
+      }
+  std::vector<std::vector<double>> H(points * 3, std::vector<double>(n));
+  for (auto &row : H)
+    for (double &h : row)
+      h = U(rng);
+  ConeProblemData data;
+  data.block_size = 3;
+  data.A          = dense_to_csr(A);
+  data.H          = dense_to_csr(H);
+  for (std::size_t i = 0; i < n; ++i)
+    data.l.push_back(U(rng));
+  data.k.assign(points * 3, 0.);
+  data.mu = {0.3, 0.5, 0.8};
+  data.Bi = {0., 0., 0.};
+
+  ConeSolverOptions options;
+  options.inner_solver = GetParam();
+  options.tolerance    = 1e-9;
+  ConeSolution solution;
+  const auto   stats = solve_cone_problem(data, options, solution);
+  ASSERT_TRUE(stats.converged);
+
+  std::vector<double> gamma, rhs, u;
+  data.H.vmult(gamma, solution.u);
+  data.H.Tvmult(rhs, solution.lambda);
+  for (std::size_t i = 0; i < n; ++i)
+    rhs[i] += data.l[i];
+  CholmodSolver(data.A).solve(u, rhs);
+  for (std::size_t i = 0; i < n; ++i)
+    EXPECT_NEAR(u[i], solution.u[i], 1e-10);
+  EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-7);
+  EXPECT_LE(cone_residual(data, ResidualKind::fischer_burmeister, solution.lambda, gamma), 1e-7);
+
+  // The primal solution is unique (Section 4.4.4): every inner solver finds the same u.
+  ConeSolverOptions reference_options = options;
+  reference_options.inner_solver      = InnerSolver::projected_gradient;
+  ConeSolution reference;
+  ASSERT_TRUE(solve_cone_problem(data, reference_options, reference).converged);
+  for (std::size_t i = 0; i < n; ++i)
+    EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6);
+}
+
+TEST(ConeProblemIO, DumpAndLoadRoundTrip)
+{
+  ConeProblemData data;
+  data.block_size = 3;
+  data.A          = dense_to_csr(identity(3));
+  data.H          = dense_to_csr({{1., 2., 0.}, {0., 1., 0.}, {3., 0., 1.}});
+  data.l          = {1., 2., 3.};
+  data.k          = {0.5, 0., -1.};
+  data.mu         = {0.4};
+  data.Bi         = {0.1};
+  const std::string file = ::testing::TempDir() + "/cone.bin";
+  save_cone_problem(data, file);
+  const ConeProblemData back = load_cone_problem(file);
+  EXPECT_EQ(back.H.value, data.H.value);
+  EXPECT_EQ(back.H.column, data.H.column);
+  EXPECT_EQ(back.l, data.l);
+  EXPECT_EQ(back.k, data.k);
+  EXPECT_EQ(back.mu, data.mu);
+  EXPECT_EQ(back.Bi, data.Bi);
+}
+
+INSTANTIATE_TEST_SUITE_P(InnerSolvers,
+                         ConeSolverAllInner,
+                         ::testing::Values(InnerSolver::projected_gradient,
+                                           InnerSolver::apgd,
+                                           InnerSolver::spg));

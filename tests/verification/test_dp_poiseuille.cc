@@ -1,0 +1,90 @@
+// Daviet & Bertails-Descoubes 2016, 6.1.1: Bingham Poiseuille flow. The case file shipped in
+// cases/ is run through the library; the velocity profile it writes is compared with the analytic
+// profile computed here, u(y) = (Re/2)[(1 - y^2) - 2 Bi (1 - |y|)] for |y| >= Bi, u(Bi) inside.
+#include "core/output.h"
+#include "models/dp/dp_model.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace
+{
+  const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/daviet2016/bingham_poiseuille.prm";
+
+  double
+  poiseuille(double y, double Bi, double Re)
+  {
+    const double a = std::max(std::abs(y), Bi);
+    return 0.5 * Re * ((1. - a * a) - 2. * Bi * (1. - a));
+  }
+
+  /// Columns of a CSV with a header row.
+  std::vector<std::vector<double>>
+  read_csv(const std::string &file)
+  {
+    std::ifstream                    in(file);
+    std::string                      line;
+    std::vector<std::vector<double>> columns;
+    std::getline(in, line);
+    while (std::getline(in, line))
+      {
+        std::stringstream s(line);
+        std::string       cell;
+        for (std::size_t j = 0; std::getline(s, cell, ','); ++j)
+          {
+            if (columns.size() <= j)
+              columns.emplace_back();
+            columns[j].push_back(std::stod(cell));
+          }
+      }
+    return columns;
+  }
+
+  nlohmann::json
+  run_case(const std::vector<granflow::Override> &overrides, const std::string &name)
+  {
+    const auto parameters = granflow::dp::load_parameters(case_file, overrides);
+    const std::string dir = ::testing::TempDir() + "/granflow_" + name;
+    std::filesystem::remove_all(dir);
+    granflow::OutputDirectory out(dir);
+    granflow::Logger          log(out.file("log.txt"), false);
+    auto summary = granflow::dp::run(parameters, out, log).summary;
+    summary["dir"] = dir;
+    return summary;
+  }
+} // namespace
+
+class BinghamPoiseuille : public ::testing::TestWithParam<double>
+{};
+
+TEST_P(BinghamPoiseuille, ProfileWithinOnePercentAndRigidPlug)
+{
+  const double Bi = GetParam(), Re = 1.;
+  const auto   summary =
+    run_case({{"Rheology/Bi", std::to_string(Bi)}, {"Output/Write vtu", "false"}}, "bp" + std::to_string(Bi));
+  ASSERT_TRUE(summary["solver"]["converged"].get<bool>());
+
+  const auto   csv = read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
+  double       max_err = 0., max_ref = 0.;
+  for (std::size_t k = 0; k < csv[0].size(); ++k)
+    {
+      const double ref = poiseuille(csv[0][k], Bi, Re);
+      max_err          = std::max(max_err, std::abs(csv[1][k] - ref));
+      max_ref          = std::max(max_ref, std::abs(ref));
+      EXPECT_NEAR(csv[2][k], 0., 1e-8 * max_ref) << "u_y at y = " << csv[0][k];
+    }
+  RecordProperty("max_rel_error", std::to_string(max_err / max_ref));
+  EXPECT_LE(max_err / max_ref, 0.01) << "Bi = " << Bi;
+  EXPECT_NEAR(summary["max_rel_error"].get<double>(), max_err / max_ref, 1e-12);
+
+  // The plug |y| < Bi is rigid: the deviatoric strain rate vanishes at its constraint points (to
+  // the solver tolerance, relative to the largest shear rate).
+  EXPECT_GT(summary["plug"]["points"].get<int>(), 0);
+  EXPECT_LE(summary["plug"]["relative_to_max"].get<double>(), 1e-6);
+}
+
+INSTANTIATE_TEST_SUITE_P(Daviet611, BinghamPoiseuille, ::testing::Values(0.1, 0.3, 0.5, 0.7, 0.9));
