@@ -36,8 +36,7 @@ namespace granflow::geometry
     constexpr int gmsh_line     = 1; // 2-node line
     constexpr int gmsh_triangle = 2; // 3-node triangle
 
-    // Beyond this the mesh would not fit the intended workstation runs; it also catches a mesh
-    // size typed in the wrong unit before Gmsh spends minutes on it.
+    // Catches a mesh size given in the wrong unit before Gmsh spends minutes and gigabytes on it.
     constexpr double max_cells = 1e7;
 
     /// Gmsh is one global state; the guard makes sure each use ends with finalize, even on error.
@@ -51,10 +50,14 @@ namespace granflow::geometry
         gmsh::option::setNumber("General.Terminal", 0);
       }
 
-      ~GmshSession() { gmsh::finalize(); }
+      ~GmshSession()
+      {
+        gmsh::finalize();
+      }
 
-      GmshSession(const GmshSession &)            = delete;
-      GmshSession &operator=(const GmshSession &) = delete;
+      GmshSession(const GmshSession &) = delete;
+      GmshSession &
+      operator=(const GmshSession &) = delete;
     };
 
     std::string
@@ -79,7 +82,7 @@ namespace granflow::geometry
         throw InputError(source, entry, str(x) + " is out of range: expected a number in (0, inf)");
     }
 
-    /// Value in (0, upper), where upper is set by entry `bound_entry` and `why` says why.
+    /// Value below `upper`; the message shows the bound as `bound` (e.g. "width = 1") and `why`.
     void
     require_below(double             x,
                   double             upper,
@@ -91,7 +94,8 @@ namespace granflow::geometry
       if (!(x < upper))
         throw InputError(source,
                          entry,
-                         str(x) + " is out of range: expected a number in (0, " + bound + ") " + why);
+                         str(x) + " is out of range: expected a number in (0, " + bound + ") " +
+                           why);
     }
 
     /// h > 0, and not so small that the domain of area `area` gets more than max_cells triangles.
@@ -143,8 +147,8 @@ namespace granflow::geometry
         for (const int type : types)
           if (type != gmsh_triangle)
             {
-              std::string      name;
-              int              element_dim, order, n_nodes, n_primary_nodes;
+              std::string         name;
+              int                 element_dim, order, n_nodes, n_primary_nodes;
               std::vector<double> local_coordinates;
               gmsh::model::mesh::getElementProperties(
                 type, name, element_dim, order, n_nodes, local_coordinates, n_primary_nodes);
@@ -163,10 +167,10 @@ namespace granflow::geometry
 
       // Only the nodes of triangles become vertices: Gmsh also stores geometry points and nodes of
       // curves that are not part of the domain.
-      std::vector<dealii::Point<2>>                  vertices;
-      std::vector<double>                            z;
+      std::vector<dealii::Point<2>>                 vertices;
+      std::vector<double>                           z;
       std::unordered_map<std::size_t, unsigned int> vertex_of_node;
-      const auto add_vertex = [&](std::size_t node) {
+      const auto                                    add_vertex = [&](std::size_t node) {
         const auto [it, inserted] = vertex_of_node.emplace(node, vertices.size());
         if (inserted)
           {
@@ -194,7 +198,8 @@ namespace granflow::geometry
       {
         double extent = 0;
         for (const auto &p : vertices)
-          extent = std::max({extent, std::abs(p[0] - vertices[0][0]), std::abs(p[1] - vertices[0][1])});
+          extent =
+            std::max({extent, std::abs(p[0] - vertices[0][0]), std::abs(p[1] - vertices[0][1])});
         for (std::size_t v = 0; v < z.size(); ++v)
           if (std::abs(z[v] - z[0]) > 1e-10 * extent)
             throw error("is not planar: node at " + str(vertices[v]) + " has z = " + str(z[v]) +
@@ -205,11 +210,10 @@ namespace granflow::geometry
       // counterclockwise, or the mapping has a negative Jacobian.
       for (auto &cell : cells)
         {
-          const auto  &a = vertices[cell.vertices[0]];
-          const auto  &b = vertices[cell.vertices[1]];
-          const auto  &c = vertices[cell.vertices[2]];
-          const double cross =
-            (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+          const auto  &a     = vertices[cell.vertices[0]];
+          const auto  &b     = vertices[cell.vertices[1]];
+          const auto  &c     = vertices[cell.vertices[2]];
+          const double cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
           const double longest =
             std::max({a.distance_square(b), b.distance_square(c), c.distance_square(a)});
           if (!(std::abs(cross) > 1e-12 * longest))
@@ -289,7 +293,8 @@ namespace granflow::geometry
           {
             if (!face->at_boundary())
               continue;
-            const auto it = named_edges.find(edge_key(face->vertex_index(0), face->vertex_index(1)));
+            const auto it =
+              named_edges.find(edge_key(face->vertex_index(0), face->vertex_index(1)));
             if (it == named_edges.end())
               {
                 if (n_unnamed++ == 0)
@@ -315,9 +320,9 @@ namespace granflow::geometry
     mesh_and_write(Mesh &mesh, const std::string &msh_path, const std::string &source)
     {
       namespace fs = std::filesystem;
-      const fs::path  target(msh_path);
-      const fs::path  partial = target.parent_path() / (target.stem().string() + ".partial.msh");
-      const auto      cannot_write = [&](const std::string &why) {
+      const fs::path target(msh_path);
+      const fs::path partial = target.parent_path() / (target.stem().string() + ".partial.msh");
+      const auto     cannot_write = [&](const std::string &why) {
         return InputError(source + ": cannot write the mesh file '" + msh_path + "': " + why);
       };
       std::error_code ec;
@@ -418,24 +423,32 @@ namespace granflow::geometry
                                             add_point(-length, width / 2, h)});
       const int  surface =
         gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(lines)});
-      name_boundaries(
-        {{"bottom", {lines[0]}}, {"outlet", {lines[1]}}, {"top", {lines[2]}}, {"inlet", {lines[3]}}},
-        {surface});
+      name_boundaries({{"bottom", {lines[0]}},
+                       {"outlet", {lines[1]}},
+                       {"top", {lines[2]}},
+                       {"inlet", {lines[3]}}},
+                      {surface});
       mesh_and_write(mesh, msh_path, source);
     });
   }
 
   void
-  make_square_patch(Mesh &mesh, double size, double h, const std::string &msh_path, const std::string &source)
+  make_square_patch(Mesh              &mesh,
+                    double             size,
+                    double             h,
+                    const std::string &msh_path,
+                    const std::string &source)
   {
     require_positive(size, entry::size, source);
     check_mesh_size(h, size * size, source);
 
     with_gmsh(source, entry::mesh_size, "meshing the square patch", [&] {
       gmsh::model::add("square_patch");
-      const auto lines = add_polygon_lines(
-        {add_point(0, 0, h), add_point(size, 0, h), add_point(size, size, h), add_point(0, size, h)});
-      const int surface =
+      const auto lines = add_polygon_lines({add_point(0, 0, h),
+                                            add_point(size, 0, h),
+                                            add_point(size, size, h),
+                                            add_point(0, size, h)});
+      const int  surface =
         gmsh::model::geo::addPlaneSurface({gmsh::model::geo::addCurveLoop(lines)});
       name_boundaries({{"bed", {lines[0]}},
                        {"downstream", {lines[1]}},
@@ -458,9 +471,13 @@ namespace granflow::geometry
   {
     require_positive(W, entry::silo_width, source);
     require_positive(H, entry::silo_height, source);
-    require_positive(D, entry::diameter, source);
-    require_below(D / 2, W, entry::diameter, "2 W = " + str(2 * W),
-                  "so that the aperture half-width D/2 is less than the silo width W", source);
+    require_positive(D, entry::aperture, source);
+    require_below(D / 2,
+                  W,
+                  entry::aperture,
+                  "2 W = " + str(2 * W),
+                  "so that the aperture half-width D/2 is less than the silo width W",
+                  source);
     if (!(extension >= 0) || !std::isfinite(extension))
       throw InputError(source,
                        entry::outlet_extension,
@@ -469,7 +486,7 @@ namespace granflow::geometry
 
     with_gmsh(source, entry::mesh_size, "meshing the half-silo", [&] {
       gmsh::model::add("half_silo");
-      namespace geo  = gmsh::model::geo;
+      namespace geo             = gmsh::model::geo;
       const int axis_bottom     = add_point(0, 0, h);
       const int aperture_corner = add_point(D / 2, 0, h);
       const int wall_bottom     = add_point(W, 0, h);
@@ -496,10 +513,10 @@ namespace granflow::geometry
         }
       else
         {
-          const int outlet_axis   = add_point(0, -extension, h);
-          const int outlet_corner = add_point(D / 2, -extension, h);
-          const int outlet        = geo::addLine(outlet_axis, outlet_corner);
-          const int outlet_wall   = geo::addLine(outlet_corner, aperture_corner);
+          const int outlet_axis      = add_point(0, -extension, h);
+          const int outlet_corner    = add_point(D / 2, -extension, h);
+          const int outlet           = geo::addLine(outlet_axis, outlet_corner);
+          const int outlet_wall      = geo::addLine(outlet_corner, aperture_corner);
           const int outlet_axis_line = geo::addLine(axis_bottom, outlet_axis);
           const int tube             = geo::addPlaneSurface(
             {geo::addCurveLoop({outlet, outlet_wall, -aperture, outlet_axis_line})});
@@ -527,30 +544,41 @@ namespace granflow::geometry
     require_positive(length, entry::length, source);
     require_positive(width, entry::width, source);
     require_positive(D, entry::diameter, source);
-    require_below(D, width, entry::diameter, "width = " + str(width),
-                  "so that the cylinder fits in the channel", source);
-    require_below(D, length, entry::diameter, "length = " + str(length),
-                  "so that the cylinder fits in the channel", source);
+    require_below(D,
+                  width,
+                  entry::diameter,
+                  "width = " + str(width),
+                  "so that the cylinder fits in the channel",
+                  source);
+    require_below(D,
+                  length,
+                  entry::diameter,
+                  "length = " + str(length),
+                  "so that the cylinder fits in the channel",
+                  source);
     // Counts the zone within D of the cylinder, meshed up to three times finer, nine times.
-    check_mesh_size(h, length * width + 8 * std::min(length * width, 2 * dealii::numbers::PI * D * D), source);
+    check_mesh_size(h,
+                    length * width + 8 * std::min(length * width, 2 * dealii::numbers::PI * D * D),
+                    source);
 
     with_gmsh(source, entry::mesh_size, "meshing the cylinder channel", [&] {
       gmsh::model::add("cylinder_channel");
-      namespace geo = gmsh::model::geo;
-      const auto walls = add_polygon_lines({add_point(-length / 2, -width / 2, h),
-                                            add_point(length / 2, -width / 2, h),
-                                            add_point(length / 2, width / 2, h),
-                                            add_point(-length / 2, width / 2, h)});
-      const double r      = D / 2;
-      const int    centre = add_point(0, 0, h / 3);
-      const std::vector<int> rim = {
-        add_point(r, 0, h / 3), add_point(0, r, h / 3), add_point(-r, 0, h / 3), add_point(0, -r, h / 3)};
+      namespace geo                 = gmsh::model::geo;
+      const auto             walls  = add_polygon_lines({add_point(-length / 2, -width / 2, h),
+                                                         add_point(length / 2, -width / 2, h),
+                                                         add_point(length / 2, width / 2, h),
+                                                         add_point(-length / 2, width / 2, h)});
+      const double           r      = D / 2;
+      const int              centre = add_point(0, 0, h / 3);
+      const std::vector<int> rim    = {add_point(r, 0, h / 3),
+                                       add_point(0, r, h / 3),
+                                       add_point(-r, 0, h / 3),
+                                       add_point(0, -r, h / 3)};
       // Quarter arcs: Gmsh's circle arcs must span less than pi.
       std::vector<int> arcs;
       for (std::size_t i = 0; i < rim.size(); ++i)
         arcs.push_back(geo::addCircleArc(rim[i], centre, rim[(i + 1) % rim.size()]));
-      const int surface =
-        geo::addPlaneSurface({geo::addCurveLoop(walls), geo::addCurveLoop(arcs)});
+      const int surface = geo::addPlaneSurface({geo::addCurveLoop(walls), geo::addCurveLoop(arcs)});
       name_boundaries({{"walls", {walls[0], walls[2]}},
                        {"outlet", {walls[1]}},
                        {"inlet", {walls[3]}},
@@ -559,8 +587,8 @@ namespace granflow::geometry
 
       // Size h/3 on the cylinder growing linearly to h at distance D: the drag (Daviet 6.3.1) is
       // a boundary integral over the cylinder.
-      namespace field      = gmsh::model::mesh::field;
-      const int distance   = field::add("Distance");
+      namespace field    = gmsh::model::mesh::field;
+      const int distance = field::add("Distance");
       field::setNumbers(distance, "CurvesList", std::vector<double>(arcs.begin(), arcs.end()));
       field::setNumber(distance, "NumPointsPerCurve", 100);
       const int threshold = field::add("Threshold");
@@ -583,8 +611,9 @@ namespace granflow::geometry
   {
     std::error_code ec;
     if (!std::filesystem::is_regular_file(msh_file, ec))
-      throw InputError(source, entry::mesh_file, "cannot read the mesh file '" + msh_file +
-                                                   "': no such file");
+      throw InputError(source,
+                       entry::mesh_file,
+                       "cannot read the mesh file '" + msh_file + "': no such file");
 
     with_gmsh(source, entry::mesh_file, "reading the mesh file '" + msh_file + "'", [&] {
       gmsh::open(msh_file);

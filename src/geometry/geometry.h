@@ -1,8 +1,8 @@
 // Computational domains of the Daviet & Bertails-Descoubes 2016 benchmarks, meshed with straight
-// triangles through the Gmsh C++ API: the Bingham Poiseuille channel (Fig. 3), the inclined layer of
-// the Bagnold profile (Fig. 6), the half-silo (Fig. 8) with the outlet extension of Appendix B, and
-// the channel around a cylinder (Fig. 12). Also imports a user's Gmsh mesh. Boundaries are addressed
-// by the names of Gmsh physical curves. All lengths are dimensionless (L = 1).
+// triangles through the Gmsh C++ API: the Bingham Poiseuille channel (Fig. 3), the inclined layer
+// of the Bagnold profile (Fig. 6), the half-silo (Fig. 8) with the outlet extension of Appendix B,
+// and the channel around a cylinder (Fig. 12). Also imports a user's Gmsh mesh. Boundaries are
+// addressed by the names of Gmsh physical curves. All lengths are dimensionless (L = 1).
 //
 // Gmsh keeps global state: none of these functions may run concurrently with another Gmsh user.
 #pragma once
@@ -19,15 +19,16 @@ namespace granflow::geometry
   /// Case-file entries the geometries are built from; error messages name them.
   namespace entry
   {
-    inline constexpr const char *mesh_size        = "Geometry/mesh size";
-    inline constexpr const char *mesh_file        = "Geometry/mesh file";
-    inline constexpr const char *length           = "Geometry/length";
-    inline constexpr const char *width            = "Geometry/width";
-    inline constexpr const char *size             = "Geometry/size";
-    inline constexpr const char *silo_width       = "Geometry/W";
-    inline constexpr const char *silo_height      = "Geometry/H";
-    inline constexpr const char *diameter         = "Geometry/D";
-    inline constexpr const char *outlet_extension = "Geometry/outlet extension";
+    inline constexpr const char *mesh_size        = "Geometry/Mesh size";
+    inline constexpr const char *mesh_file        = "Geometry/Mesh file";
+    inline constexpr const char *length           = "Geometry/Channel length";
+    inline constexpr const char *width            = "Geometry/Channel width";
+    inline constexpr const char *size             = "Geometry/Patch size";
+    inline constexpr const char *silo_width       = "Geometry/Silo width";
+    inline constexpr const char *silo_height      = "Geometry/Silo height";
+    inline constexpr const char *aperture         = "Geometry/Aperture";
+    inline constexpr const char *diameter         = "Geometry/Cylinder diameter";
+    inline constexpr const char *outlet_extension = "Geometry/Outlet extension";
   } // namespace entry
 
   /// A triangle mesh whose boundary faces all carry the id of a named Gmsh physical curve.
@@ -63,7 +64,11 @@ namespace granflow::geometry
   /// Daviet Fig. 6 (Bagnold profile on an inclined plane, in the frame of the plane): [0, size]^2.
   /// Boundaries "bed" (y = 0), "surface" (y = size), "upstream" (x = 0), "downstream" (x = size).
   void
-  make_square_patch(Mesh &mesh, double size, double h, const std::string &msh_path, const std::string &source);
+  make_square_patch(Mesh              &mesh,
+                    double             size,
+                    double             h,
+                    const std::string &msh_path,
+                    const std::string &source);
 
   /// Daviet Fig. 8: half-silo x in [0, W], y in [0, H] with an aperture of half-width D/2 at
   /// x in [0, D/2], y = 0, extended downward by [0, D/2] x [-extension, 0] (Appendix B).
@@ -95,10 +100,10 @@ namespace granflow::geometry
                         const std::string &msh_path,
                         const std::string &source);
 
-  /// Reads a user's Gmsh mesh (any format Gmsh reads) of straight triangles in the plane z = 0.
-  /// Every named physical curve becomes a boundary; every boundary edge must lie on exactly one
-  /// named physical curve. Clockwise triangles are reoriented. Errors name `source` (the case
-  /// file), the entry "Geometry/mesh file" and `msh_file`.
+  /// Reads a user's Gmsh mesh (any format Gmsh reads) of straight triangles in a plane z = const.
+  /// Every named physical curve on the boundary becomes a boundary; every boundary edge must lie
+  /// on exactly one named physical curve. Clockwise triangles are reoriented. Errors name `source`
+  /// (the case file), the entry "Geometry/mesh file" and `msh_file`.
   void
   read_mesh_file(Mesh &mesh, const std::string &msh_file, const std::string &source);
 } // namespace granflow::geometry

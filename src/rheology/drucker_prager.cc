@@ -82,10 +82,10 @@ namespace granflow::rheology
         p[0] = 0.; // base disc
         return p;
       }
-    // Here ||x_T|| > Bi + mu max(x_N, 0) >= Bi > 0. In the meridian half-plane (x_N, ||x_T||) the
-    // foot of x on the face line r = Bi + mu s is at s below: s > 0 is the conical face, s <= 0 the
-    // circular edge (0; Bi x_T / ||x_T||). Not by shifting the apex to -Bi/mu, which loses
-    // log10(Bi / (mu |x|)) digits for small mu.
+    // Here ||x_T|| > Bi + mu max(x_N, 0) >= Bi > 0. In the half-plane (x_N, ||x_T||), s is the foot
+    // of x on the face line r = Bi + mu s: s > 0 is the conical face, s <= 0 the circular edge
+    // (0; Bi x_T / ||x_T||); mu = 0 is the cylinder. Computed without shifting the apex to -Bi/mu,
+    // which would lose log10(Bi / (mu |x|)) digits for small mu.
     const double s = std::max(0., (x[0] + mu * (t - Bi)) / (1. + mu * mu));
     const double r = Bi + mu * s;
     p[0]           = s;
@@ -160,11 +160,12 @@ namespace granflow::rheology
   std::array<double, n>
   fischer_burmeister_K1(const std::array<double, n> &x, const std::array<double, n> &y)
   {
-    // z = x o x + y o y = (|x|^2 + |y|^2; 2 (x_0 x_T + y_0 y_T)), spectral values l_{1,2} = z_0 -+ ||z_T||
-    // and sqrt(z) = ((s1 + s2)/2; z_T/(s1 + s2)) with s_i = sqrt(l_i). At a solution l1 is 0 or
-    // tiny, and z_0 - ||z_T|| would cancel to O(eps |z|), i.e. a residual of O(sqrt(eps) |z|^(1/2)):
-    // l1 = det(z)/l2 instead, with det(z) = det(x)^2 + det(y)^2 + 2 <x o x, y o y>_J (det is the
-    // quadratic form of <a, b>_J = a_0 b_0 - a_T.b_T), whose terms are all >= 0.
+    // z = x o x + y o y = (|x|^2 + |y|^2; 2 (x_0 x_T + y_0 y_T)) has spectral values
+    // l_{1,2} = z_0 -+ ||z_T||, and sqrt(z) = ((s1 + s2)/2; z_T/(s1 + s2)) with s_i = sqrt(l_i).
+    // At a solution l1 is 0 or small, where z_0 - ||z_T|| cancels and would leave a residual of
+    // O(sqrt(eps) |z|^(1/2)) instead of O(eps). Hence l1 = det(z)/l2, with
+    // det(z) = det(x)^2 + det(y)^2 + 2 <x o x, y o y>_J (det is the quadratic form of
+    // <a, b>_J = a_0 b_0 - a_T.b_T), a sum of terms that are >= 0.
     double xx = 0., yy = 0., xTyT = 0.;
     for (std::size_t i = 0; i < n; ++i)
       {

@@ -51,6 +51,7 @@ namespace granflow::rheology
   }
 
   /// Orthogonal projection onto the second-order cone K_mu = {||x_T|| <= mu x_N} (7), mu >= 0.
+  /// K_0 is the ray {x_T = 0, x_N >= 0}, i.e. (16) with Bi = 0, not the whole x_N axis of (7).
   template <std::size_t n>
   std::array<double, n>
   project_onto_cone(const std::array<double, n> &x, double mu);

@@ -81,6 +81,26 @@ namespace granflow::solvers
       Vector                 rhs, velocity;
     };
 
+    /// Upper estimate of ||W|| (W symmetric positive semi-definite): 20 power iterations, plus 10 %.
+    double
+    estimate_norm(DelassusOperator &W, const std::size_t m)
+    {
+      Vector x(m, 1.), y;
+      double norm = 0.;
+      for (int k = 0; k < 20; ++k)
+        {
+          const double x_norm = std::sqrt(dot(x, x));
+          if (x_norm == 0.)
+            break;
+          for (double &v : x)
+            v /= x_norm;
+          W.apply(y, x);
+          norm = std::sqrt(dot(y, y));
+          std::swap(x, y);
+        }
+      return norm > 0. ? 1.1 * norm : 1.;
+    }
+
     /// The product of cones K_{mu_i, Bi_i} over the constraint points, blocks of n components.
     template <std::size_t n>
     class ConeProduct
@@ -164,10 +184,15 @@ namespace granflow::solvers
     class InnerSolverImpl
     {
     public:
-      InnerSolverImpl(const ConeProduct<n> &K, DelassusOperator &W, const ConeSolverOptions &options)
+      InnerSolverImpl(const ConeProduct<n>    &K,
+                      DelassusOperator        &W,
+                      const ConeSolverOptions &options,
+                      const double             lipschitz)
         : K(K)
         , W(W)
         , options(options)
+        , lipschitz(lipschitz)
+        , step(1. / lipschitz)
       {}
 
       /// Minimises from the warm start in `state`; returns the iteration count.
@@ -197,8 +222,8 @@ namespace granflow::solvers
         add(d, -1., s.x);
       }
 
-      /// PG along the projected direction with an exact line search on the quadratic; one
-      /// application of W per iteration. The step grows while full steps are accepted.
+      /// Algorithm 2 with the step 1/L (L >= ||W||), followed by an exact line search along the
+      /// projected direction (t <= 1 keeps the iterate feasible); one application of W per iteration.
       unsigned int
       solve_pg(Quadratic &s, const Vector &q, const double tolerance)
       {
@@ -208,14 +233,15 @@ namespace granflow::solvers
           {
             if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
               break;
-            projected_direction(d, s, step);
+            projected_direction(d, s, 1. / lipschitz);
             W.apply(Wd, d);
+            // Exact line search; where the descent g.d is lost in rounding, the plain step of
+            // Algorithm 2 (t = 1).
             const double gd = dot(s.g, d), dWd = dot(d, Wd);
-            const double t  = dWd > 0. ? std::min(1., -gd / dWd) : 1.;
+            const double t  = (gd < 0. && dWd > 0.) ? std::min(1., -gd / dWd) : 1.;
             add(s.x, t, d);
             add(s.Wx, t, Wd);
             s.refresh(q);
-            step = t >= 1. ? step * 1.5 : std::max(step * t, 1e-12);
           }
         return it;
       }
@@ -224,7 +250,7 @@ namespace granflow::solvers
       unsigned int
       solve_apgd(Quadratic &s, const Vector &q, const double tolerance)
       {
-        double       L = 1. / step, theta = 1.;
+        double       L = std::max(1. / step, 1e-3 * lipschitz), theta = 1.;
         Quadratic    y = s, x_new;
         Vector       diff;
         unsigned int it = 0;
@@ -291,7 +317,8 @@ namespace granflow::solvers
             const double gd = dot(s.g, d), dWd = dot(d, Wd);
             const double J_max = *std::max_element(J_history.begin(), J_history.end());
             double       t     = 1.;
-            while (s.J + t * gd + 0.5 * t * t * dWd > J_max + armijo * t * gd && t > 1e-10)
+            // (where g.d >= 0 the descent is lost in rounding: take the projected step)
+            while (gd < 0. && s.J + t * gd + 0.5 * t * t * dWd > J_max + armijo * t * gd && t > 1e-10)
               // safeguarded quadratic interpolation: on a quadratic it is the exact minimiser
               t = dWd > 0. ? std::clamp(-gd / dWd, 0.1 * t, 0.5 * t) : 0.5 * t;
             add(s.x, t, d);
@@ -301,7 +328,8 @@ namespace granflow::solvers
             if (J_history.size() > memory)
               J_history.erase(J_history.begin());
             const double sy = t * t * dWd, ss = t * t * dot(d, d);
-            step = sy > 0. ? std::clamp(ss / sy, 1e-10, 1e10) : 1e10;
+            // BB step, bounded below by 1/L: a collapsed step would stall in rounding.
+            step = sy > 0. ? std::clamp(ss / sy, 1. / lipschitz, 1e10) : 1e10;
           }
         return it;
       }
@@ -309,7 +337,8 @@ namespace granflow::solvers
       const ConeProduct<n>    &K;
       DelassusOperator        &W;
       const ConeSolverOptions &options;
-      double                   step = 1.; // kept across calls: the warm start of the step length
+      const double             lipschitz; // upper estimate of ||W||
+      double                   step;      // kept across calls: the warm start of the step length
     };
 
     template <std::size_t n>
@@ -323,7 +352,7 @@ namespace granflow::solvers
 
       DelassusOperator   W(data, A_inv);
       ConeProduct<n>     K(data);
-      InnerSolverImpl<n> inner(K, W, options);
+      InnerSolverImpl<n> inner(K, W, options, estimate_norm(W, data.n_points() * n));
 
       const std::size_t m = data.n_points() * n;
       // w = H A^{-1} l + k (36)
@@ -339,8 +368,9 @@ namespace granflow::solvers
       if (options.log)
         *options.log << "  Cadoux fixed point (" << to_string(options.inner_solver) << ")\n"
                      << "   iter      residual   inner   W-apps      time[s]\n";
-      Vector q(m), gamma(m);
-      const auto t1 = Clock::now();
+      Vector     q(m), gamma(m);
+      double     inner_factor = options.inner_tolerance_factor;
+      const auto t1           = Clock::now();
       for (;;)
         {
           // gamma = W lambda + w (Algorithm 1, first line)
@@ -368,8 +398,14 @@ namespace granflow::solvers
           for (std::size_t i = 0; i < data.n_points(); ++i)
             q[i * n] += data.mu[i] * rheology::norm_T(K.block(gamma, i));
           state.refresh(q);
+          // The inner natural-map residual and the outer residual weigh the components
+          // differently: when the inner problem is already solved to the requested tolerance but
+          // the outer residual stalls, tighten the inner tolerance.
+          if (stats.outer_iterations > 0 &&
+              stats.residual > 0.5 * stats.residual_history[stats.residual_history.size() - 2])
+            inner_factor = std::max(0.1 * inner_factor, 1e-6);
           const double inner_tolerance =
-            std::max(options.inner_tolerance_factor * stats.residual, 0.1 * options.tolerance);
+            std::max(inner_factor * stats.residual, 1e-3 * options.tolerance);
           stats.inner_iterations += inner.solve(state, q, inner_tolerance);
           ++stats.outer_iterations;
         }

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <random>
+#include <sstream>
 
 using namespace granflow::solvers;
 
@@ -86,9 +87,11 @@ TEST_P(ConeSolverAllInner, SinglePointMatchesDisjunctiveSolution)
       options.inner_solver = GetParam();
       options.residual     = ResidualKind::alart_curnier;
       options.tolerance    = 1e-10;
-      ConeSolution solution;
-      const auto   stats = solve_cone_problem(data, options, solution);
-      ASSERT_TRUE(stats.converged) << "trial " << trial;
+      ConeSolution       solution;
+      std::ostringstream log;
+      options.log      = &log;
+      const auto stats = solve_cone_problem(data, options, solution);
+      ASSERT_TRUE(stats.converged) << "trial " << trial << " mu " << mu << " Bi " << Bi << "\n" << log.str();
       const auto expected = single_point_lambda(w, mu, Bi);
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(solution.lambda[c], expected[c], 1e-8) << "trial " << trial << " mu " << mu;
@@ -135,8 +138,10 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
   options.inner_solver = GetParam();
   options.tolerance    = 1e-9;
   ConeSolution solution;
+  std::ostringstream log;
+  options.log        = &log;
   const auto   stats = solve_cone_problem(data, options, solution);
-  ASSERT_TRUE(stats.converged);
+  ASSERT_TRUE(stats.converged) << log.str();
 
   std::vector<double> gamma, rhs, u;
   data.H.vmult(gamma, solution.u);

@@ -2,9 +2,9 @@
 // Daviet & Bertails-Descoubes 2016: Definition 1 and Properties 1-2 (chi), (7) and (16) (cones and
 // their projections, the four cases of the proof of Theorem 3), Theorems 1-3 (f_AC, f_DS) and
 // Corollary 1 (f_FB, Bi = 0). Every reference is computed here, independently of the kernel:
-// projections by minimising over the boundary pieces of the meridian half-plane (x_N, ||x_T||),
-// membership of DP(mu, Bi) by the disjunctive form (13) and by the tensor form (3), and the
-// Fischer-Burmeister function through the Jordan frame of K_1.
+// projections in the meridian half-plane (x_N, ||x_T||) from the nearest points of the boundary
+// pieces (checked against dense sampling), membership of DP(mu, Bi) by the disjunctive form (13)
+// and by the tensor form (3), complementary pairs of K_1 from its Jordan frame.
 // Random samples use a fixed-seed std::mt19937, so every run sees the same samples.
 #include "rheology/drucker_prager.h"
 
@@ -13,30 +13,28 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <random>
 #include <sstream>
 #include <string>
-#include <random>
 #include <vector>
 
 namespace
 {
   using namespace granflow::rheology;
 
-  template <std::size_t n>
-  using Vec = std::array<double, n>;
+  template <std::size_t n> using Vec = std::array<double, n>;
 
-  template <int d>
-  using Mat = std::array<std::array<double, d>, d>;
+  template <int d> using Mat = std::array<std::array<double, d>, d>;
 
-  template <int d>
-  struct Dim
+  template <int d> struct Dim
   {
     static constexpr int         dim = d;
     static constexpr std::size_t n   = n_sym<d>;
   };
 
   // Relative tolerances: "zero" is rounding of O(1e-16) amplified by a few operations; "nonzero" is
-  // the smallest residual a violation of the size generated below can leave.
+  // far below the smallest residual that the violations generated below (of relative size >= 1e-3)
+  // leave, and far above rounding.
   constexpr double rel_tol     = 1e-10;
   constexpr double vi_tol      = 1e-12;
   constexpr double nonzero_tol = 1e-8;
@@ -47,10 +45,10 @@ namespace
   {
     double mu, Bi;
   };
-  const std::vector<Params> all_params = {
-    {0.5, 1.}, {1.3, 0.2}, {3., 0.5}, {0.05, 2.}, {1e-9, 1.}, {0., 1.}, {0.7, 0.}, {2.5, 0.}, {0., 0.}};
+  const std::vector<Params> all_params = {{0.5, 1.}, {1.3, 0.2}, {3., 0.5}, {0.05, 2.}, {1e-9, 1.},
+                                          {0., 1.},  {0.7, 0.},  {2.5, 0.}, {0., 0.}};
 
-  // ----- small vector algebra, written here so that the references do not reuse the kernel's helpers
+  // ----- small vector algebra, here so that the references do not reuse the kernel's helpers
   double
   sq(const double a)
   {
@@ -132,8 +130,9 @@ namespace
   {
   public:
     explicit Sampler(const unsigned int seed)
-      : rng(seed)
-    {}
+        : rng(seed)
+    {
+    }
 
     double
     uniform(const double a, const double b)
@@ -218,7 +217,8 @@ namespace
     return x;
   }
 
-  // ----- tensors as plain d x d arrays: Tr, Dev, : and |.| computed here, not with deal.II operators
+  // ----- tensors as plain d x d arrays: Tr, Dev, : and |.| computed here, not with deal.II
+  // operators
 
   template <int d>
   Mat<d>
@@ -343,12 +343,12 @@ namespace
   };
 
   /// Projection of (N, r), r >= 0, onto the meridian section {N >= 0, |r| <= Bi + mu N} of
-  /// K_{mu,Bi}; the lower ray r = -(Bi + mu s) is never nearer than its mirror image, so the section
-  /// is R = conv{(0, 0), (0, Bi)} + cone{(1, 0), (1, mu)}. Candidates: the nearest points of the base
-  /// segment {0} x [0, Bi] and of the ray {(s, Bi + mu s), s >= 0}. The projection is the candidate P
-  /// with (X - P).(Z - P) <= 0 on R, i.e. on the two vertices and the two recession directions.
-  /// (Comparing the two distances instead is ill-conditioned: near a tie the candidates can be
-  /// sqrt(eps) apart while their distances agree to rounding.)
+  /// K_{mu,Bi}; the lower ray r = -(Bi + mu s) is never nearer than its mirror image, so the
+  /// section is R = conv{(0, 0), (0, Bi)} + cone{(1, 0), (1, mu)}. Candidates: the nearest points
+  /// of the base segment {0} x [0, Bi] and of the ray {(s, Bi + mu s), s >= 0}. The projection is
+  /// the candidate P with (X - P).(Z - P) <= 0 on R, i.e. on the two vertices and the two recession
+  /// directions. (Comparing the two distances instead is ill-conditioned: near a tie the candidates
+  /// can be sqrt(eps) apart while their distances agree to rounding.)
   Meridian
   project_meridian(const double N, const double r, const double mu, const double Bi)
   {
@@ -359,10 +359,8 @@ namespace
     const Meridian face{s, Bi + mu * s};
     const auto     violation = [&](const Meridian &p) {
       const double a = N - p.N, b = r - p.r; // X - P
-      return std::max({a * (0. - p.N) + b * (0. - p.r),
-                       a * (0. - p.N) + b * (Bi - p.r),
-                       a,
-                       a + b * mu});
+      return std::max(
+              {a * (0. - p.N) + b * (0. - p.r), a * (0. - p.N) + b * (Bi - p.r), a, a + b * mu});
     };
     return violation(base) <= violation(face) ? base : face;
   }
@@ -403,8 +401,7 @@ namespace
     return circular_edge;
   }
 
-  template <std::size_t n>
-  struct CaseSample
+  template <std::size_t n> struct CaseSample
   {
     Vec<n> x, p; // p: the projection of x, known by construction
   };
@@ -419,39 +416,38 @@ namespace
     Meridian     x{}, p{};
     switch (kase)
       {
-        case interior:
-          p = {rng.uniform(0., 3.), 0.};
-          p.r = rng.uniform(0., 1.) * (Bi + mu * p.N);
-          x   = p;
+      case interior:
+        p   = {rng.uniform(0., 3.), 0.};
+        p.r = rng.uniform(0., 1.) * (Bi + mu * p.N);
+        x   = p;
+        break;
+      case conical_face:
+        {
+          p              = {rng.uniform(0.01, 3.), 0.};
+          p.r            = Bi + mu * p.N;
+          const double t = rng.uniform(0.01, 3.);
+          x              = {p.N - t * mu * c, p.r + t * c};
           break;
-        case conical_face:
-          {
-            p              = {rng.uniform(0.01, 3.), 0.};
-            p.r            = Bi + mu * p.N;
-            const double t = rng.uniform(0.01, 3.);
-            x              = {p.N - t * mu * c, p.r + t * c};
-            break;
-          }
-        case base_disc:
-          p = {0., rng.uniform(0., 0.999) * Bi};
-          x = {-rng.uniform(0.01, 3.), p.r};
+        }
+      case base_disc:
+        p = {0., rng.uniform(0., 0.999) * Bi};
+        x = {-rng.uniform(0.01, 3.), p.r};
+        break;
+      case circular_edge:
+        {
+          // normal cone at the edge (or apex): spanned by (-1, 0) and c (-mu, 1)
+          p              = {0., Bi};
+          const double a = rng.uniform(0.01, 3.), b = rng.uniform(0.01, 3.);
+          x = {-a - b * mu * c, Bi + b * c};
           break;
-        case circular_edge:
-          {
-            // normal cone at the edge (or apex): spanned by (-1, 0) and c (-mu, 1)
-            p              = {0., Bi};
-            const double a = rng.uniform(0.01, 3.), b = rng.uniform(0.01, 3.);
-            x              = {-a - b * mu * c, Bi + b * c};
-            break;
-          }
+        }
       }
     return {from_NT(x.N, x.r, e), from_NT(p.N, p.r, e)};
   }
 
   // ----- DP(mu, Bi) in the disjunctive form (13) and in the tensor form (3)
 
-  template <std::size_t n>
-  struct Pair
+  template <std::size_t n> struct Pair
   {
     Vec<n> lambda, D;
   };
@@ -459,7 +455,8 @@ namespace
   /// Theorem 1, (13), with a tolerance on every equality and inequality.
   template <std::size_t n>
   bool
-  in_DP_13(const Vec<n> &lambda, const Vec<n> &D, const double mu, const double Bi, const double tol)
+  in_DP_13(const Vec<n> &lambda, const Vec<n> &D, const double mu, const double Bi,
+           const double tol)
   {
     const double lN = lambda[0], DN = D[0];
     if (lN < -tol || DN < -tol || (lN > tol && DN > tol)) // (13c)
@@ -486,7 +483,7 @@ namespace
       return false;
     const double kappa = Bi + mu * trace<d>(lambda) / std::sqrt(2. * d);
     const Mat<d> devL = dev<d>(lambda), devD = dev<d>(D);
-    const double nD   = tnorm<d>(devD);
+    const double nD = tnorm<d>(devD);
     if (nD > tol) // (3a)
       return tnorm<d>(tlin<d>(1., devL, kappa / nD, devD)) <= tol;
     return tnorm<d>(devL) <= kappa + tol; // (3b)
@@ -545,7 +542,9 @@ namespace
   Pair<n>
   random_dp_pair(Sampler &rng, const double mu, const double Bi)
   {
-    return dp_pair<n>(rng, rng.coin(), random_normal(rng), mu, Bi);
+    const bool   flowing = rng.coin();
+    const Normal normal  = random_normal(rng);
+    return dp_pair<n>(rng, flowing, normal, mu, Bi);
   }
 
   enum Violation
@@ -569,75 +568,75 @@ namespace
     const Normal normal = Bi == 0. ? Normal::pressed : random_normal(rng);
     switch (v)
       {
-        case lambda_N_negative:
-          {
-            Pair<n> q    = random_dp_pair<n>(rng, mu, Bi);
-            q.lambda[0] = -rng.uniform(0.05, 2.);
-            return q;
-          }
-        case D_N_negative:
-          {
-            Pair<n> q = random_dp_pair<n>(rng, mu, Bi);
-            q.D[0]    = -rng.uniform(0.05, 2.);
-            return q;
-          }
-        case both_normal_positive:
-          {
-            Pair<n> q = dp_pair<n>(rng, rng.coin(), Normal::pressed, mu, Bi);
-            q.D[0]    = rng.uniform(0.05, 2.);
-            return q;
-          }
-        case tangent_rotated:
-        case tangent_wrong_length:
-          {
-            Pair<n>      q     = dp_pair<n>(rng, true, normal, mu, Bi);
-            const double kappa = Bi + mu * q.lambda[0];
-            Vec<n>       e     = q.D;
-            e[0]               = 0.;
-            e                  = lin(1. / len_T(e), e, 0., e);
-            if (kappa == 0.) // mu = Bi = 0: any nonzero shear stress violates (13a)
-              {
-                const Vec<n> f = rng.direction<n>();
-                const double r = rng.uniform(0.05, 1.);
-                for (std::size_t i = 1; i < n; ++i)
-                  q.lambda[i] = r * f[i];
-                return q;
-              }
-            if (v == tangent_wrong_length)
-              {
-                const double u = rng.coin() ? rng.uniform(0., 0.95) : rng.uniform(1.05, 2.);
-                for (std::size_t i = 1; i < n; ++i)
-                  q.lambda[i] = -u * kappa * e[i];
-                return q;
-              }
-            const Vec<n> f     = rng.perpendicular(e);
-            const double theta = rng.uniform(0.1, M_PI);
-            for (std::size_t i = 1; i < n; ++i)
-              q.lambda[i] = kappa * (-std::cos(theta) * e[i] + std::sin(theta) * f[i]);
-            return q;
-          }
-        case rigid_overstressed:
-          {
-            Pair<n>      q     = dp_pair<n>(rng, false, random_normal(rng), mu, Bi);
-            const double kappa = Bi + mu * q.lambda[0];
-            const Vec<n> e     = rng.direction<n>();
-            const double r = kappa > 0. ? rng.uniform(1.05, 3.) * kappa : rng.uniform(0.05, 1.);
-            for (std::size_t i = 1; i < n; ++i)
-              q.lambda[i] = r * e[i];
-            return q;
-          }
-        case tangent_along_D:
-          {
-            Pair<n>      q     = dp_pair<n>(rng, true, random_normal(rng), mu, Bi);
-            const double kappa = Bi + mu * q.lambda[0];
-            const double r     = kappa > 0. ? kappa : rng.uniform(0.05, 1.);
-            const double tD    = len_T(q.D);
-            for (std::size_t i = 1; i < n; ++i)
-              q.lambda[i] = r * q.D[i] / tD;
-            return q;
-          }
-        default:
-          break;
+      case lambda_N_negative:
+        {
+          Pair<n> q   = random_dp_pair<n>(rng, mu, Bi);
+          q.lambda[0] = -rng.uniform(0.05, 2.);
+          return q;
+        }
+      case D_N_negative:
+        {
+          Pair<n> q = random_dp_pair<n>(rng, mu, Bi);
+          q.D[0]    = -rng.uniform(0.05, 2.);
+          return q;
+        }
+      case both_normal_positive:
+        {
+          Pair<n> q = dp_pair<n>(rng, rng.coin(), Normal::pressed, mu, Bi);
+          q.D[0]    = rng.uniform(0.05, 2.);
+          return q;
+        }
+      case tangent_rotated:
+      case tangent_wrong_length:
+        {
+          Pair<n>      q     = dp_pair<n>(rng, true, normal, mu, Bi);
+          const double kappa = Bi + mu * q.lambda[0];
+          Vec<n>       e     = q.D;
+          e[0]               = 0.;
+          e                  = lin(1. / len_T(e), e, 0., e);
+          if (kappa == 0.) // mu = Bi = 0: any nonzero shear stress violates (13a)
+            {
+              const Vec<n> f = rng.direction<n>();
+              const double r = rng.uniform(0.05, 1.);
+              for (std::size_t i = 1; i < n; ++i)
+                q.lambda[i] = r * f[i];
+              return q;
+            }
+          if (v == tangent_wrong_length)
+            {
+              const double u = rng.coin() ? rng.uniform(0., 0.95) : rng.uniform(1.05, 2.);
+              for (std::size_t i = 1; i < n; ++i)
+                q.lambda[i] = -u * kappa * e[i];
+              return q;
+            }
+          const Vec<n> f     = rng.perpendicular(e);
+          const double theta = rng.uniform(0.1, std::acos(-1.));
+          for (std::size_t i = 1; i < n; ++i)
+            q.lambda[i] = kappa * (-std::cos(theta) * e[i] + std::sin(theta) * f[i]);
+          return q;
+        }
+      case rigid_overstressed:
+        {
+          Pair<n>      q     = dp_pair<n>(rng, false, random_normal(rng), mu, Bi);
+          const double kappa = Bi + mu * q.lambda[0];
+          const Vec<n> e     = rng.direction<n>();
+          const double r     = kappa > 0. ? rng.uniform(1.05, 3.) * kappa : rng.uniform(0.05, 1.);
+          for (std::size_t i = 1; i < n; ++i)
+            q.lambda[i] = r * e[i];
+          return q;
+        }
+      case tangent_along_D:
+        {
+          Pair<n>      q     = dp_pair<n>(rng, true, random_normal(rng), mu, Bi);
+          const double kappa = Bi + mu * q.lambda[0];
+          const double r     = kappa > 0. ? kappa : rng.uniform(0.05, 1.);
+          const double tD    = len_T(q.D);
+          for (std::size_t i = 1; i < n; ++i)
+            q.lambda[i] = r * q.D[i] / tD;
+          return q;
+        }
+      default:
+        break;
       }
     ADD_FAILURE() << "unknown violation";
     return {};
@@ -679,12 +678,12 @@ namespace
   {
     switch (rng.pick(3))
       {
-        case 0:
-          return random_dp_pair<n>(rng, mu, Bi);
-        case 1:
-          return off_dp_pair<n>(rng, static_cast<Violation>(rng.pick(n_violations)), mu, Bi);
-        default:
-          return snapped_pair<n>(rng, mu, Bi);
+      case 0:
+        return random_dp_pair<n>(rng, mu, Bi);
+      case 1:
+        return off_dp_pair<n>(rng, static_cast<Violation>(rng.pick(n_violations)), mu, Bi);
+      default:
+        return snapped_pair<n>(rng, mu, Bi);
       }
   }
 
@@ -726,20 +725,34 @@ namespace
   const std::vector<std::array<double, 2>> ac_xis = {{{1., 1.}}, {{0.1, 3.7}}, {{25., 0.02}}};
   const std::vector<double>                ds_xis = {1., 0.05, 40.};
 
-  template <typename T>
-  class DruckerPrager : public ::testing::Test
-  {};
+  /// |f| <= zero_tol if expected_zero, |f| > nonzero_threshold (clearly away from rounding)
+  /// otherwise.
+  ::testing::AssertionResult
+  zero_iff(const bool expected_zero, const double f, const double zero_tol,
+           const double nonzero_threshold)
+  {
+    if (expected_zero ? f <= zero_tol : f > nonzero_threshold)
+      return ::testing::AssertionSuccess();
+    return ::testing::AssertionFailure()
+           << (expected_zero ? "expected zero: |f| = " : "expected nonzero: |f| = ") << f
+           << (expected_zero ? " > " : " <= ") << (expected_zero ? zero_tol : nonzero_threshold);
+  }
+
+  template <typename T> class DruckerPrager : public ::testing::Test
+  {
+  };
 
   using Dims = ::testing::Types<Dim<2>, Dim<3>>;
   TYPED_TEST_SUITE(DruckerPrager, Dims);
 
-  // ================================================================================ chi, Section 3.2.2
+  // ================================================================================ chi,
+  // Section 3.2.2
 
   TYPED_TEST(DruckerPrager, ChiIsDefinition1)
   {
-    constexpr int d = TypeParam::dim;
+    constexpr int         d = TypeParam::dim;
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(11);
+    Sampler               rng(11);
     for (int k = 0; k < 2000; ++k)
       {
         const Vec<n> x = rng.vec<n>(-3., 3.);
@@ -752,9 +765,9 @@ namespace
 
   TYPED_TEST(DruckerPrager, ChiProperty1Orthonormal)
   {
-    constexpr int d = TypeParam::dim;
+    constexpr int         d = TypeParam::dim;
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(12);
+    Sampler               rng(12);
     for (int k = 0; k < 3000; ++k)
       {
         const Vec<n> x = rng.vec<n>(-3., 3.), y = rng.vec<n>(-3., 3.);
@@ -765,7 +778,8 @@ namespace
         ASSERT_NEAR(len(x), tnorm<d>(X), rel_tol * len(x));
         // chi is linear
         const Mat<d> Z = to_mat<d>(chi<d>(lin(2.5, x, -1., y)));
-        ASSERT_LE(tnorm<d>(tlin<d>(1., Z, -1., tlin<d>(2.5, X, -1., Y))), rel_tol * (len(x) + len(y)));
+        ASSERT_LE(tnorm<d>(tlin<d>(1., Z, -1., tlin<d>(2.5, X, -1., Y))),
+                  rel_tol * (len(x) + len(y)));
         // chi^{-1}(chi(x)) = x, and chi(chi^{-1}(S)) = S for an arbitrary symmetric S
         ASSERT_LE(dist(chi_inverse<d>(chi<d>(x)), x), rel_tol * len(x));
         Mat<d> S{};
@@ -779,15 +793,15 @@ namespace
 
   TYPED_TEST(DruckerPrager, ChiProperty2TraceAndDeviator)
   {
-    constexpr int d = TypeParam::dim;
+    constexpr int         d = TypeParam::dim;
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(13);
+    Sampler               rng(13);
     for (int k = 0; k < 3000; ++k)
       {
         const Vec<n> x = rng.vec<n>(-3., 3.);
         const Mat<d> X = to_mat<d>(chi<d>(x));
-        ASSERT_NEAR(trace<d>(X) / std::sqrt(2. * d), x[0], rel_tol * len(x));  // (12a)
-        ASSERT_NEAR(tnorm<d>(dev<d>(X)), len_T(x), rel_tol * len(x));          // (12b)
+        ASSERT_NEAR(trace<d>(X) / std::sqrt(2. * d), x[0], rel_tol * len(x)); // (12a)
+        ASSERT_NEAR(tnorm<d>(dev<d>(X)), len_T(x), rel_tol * len(x));         // (12b)
         // and the kernel's own norms agree with the definitions
         ASSERT_NEAR(tensor_norm<d>(chi<d>(x)), len(x), rel_tol * len(x));
         ASSERT_NEAR(norm_T(x), len_T(x), rel_tol * len(x));
@@ -809,8 +823,8 @@ namespace
         const double Smax = 20.;
         for (int k = 0; k < 200; ++k)
           {
-            const double N = rng.uniform(-4., 4.), r = rng.uniform(0., 4.);
-            const Meridian p = project_meridian(N, r, P.mu, P.Bi);
+            const double   N = rng.uniform(-4., 4.), r = rng.uniform(0., 4.);
+            const Meridian p     = project_meridian(N, r, P.mu, P.Bi);
             const double   d_ref = std::hypot(p.N - N, p.r - r);
             ASSERT_GE(p.N, 0.);
             ASSERT_LE(p.r, P.Bi + P.mu * p.N + 1e-14);
@@ -836,17 +850,19 @@ namespace
   TYPED_TEST(DruckerPrager, ProjectionOntoCone)
   {
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(22);
+    Sampler               rng(22);
     for (const double mu : {0., 0.3, 1., 2.5, 1e-9})
       for (int k = 0; k < 4000; ++k)
         {
-          const Vec<n> x = k < 1000 ? random_point<n>(rng) :
-                                      sample_case<n>(rng, static_cast<Case>(k % 3 == 2 ? 3 : k % 3), mu, 0.).x;
+          const Vec<n> x =
+              k < 1000 ? random_point<n>(rng)
+                       : sample_case<n>(rng, static_cast<Case>(k % 3 == 2 ? 3 : k % 3), mu, 0.).x;
           const Vec<n> p     = project_onto_cone(x, mu);
           const double scale = 1. + len(x);
           ASSERT_TRUE(in_truncated_cone(p, mu, 0., vi_tol * scale)) << "mu " << mu;
           ASSERT_LE(dist(p, reference_projection(x, mu, 0.)), rel_tol * scale)
-            << "mu " << mu << " x " << str(x) << " p " << str(p) << " ref " << str(reference_projection(x, mu, 0.));
+              << "mu " << mu << " x " << str(x) << " p " << str(p) << " ref "
+              << str(reference_projection(x, mu, 0.));
           ASSERT_LE(dist(project_onto_cone(p, mu), p), vi_tol * scale);
           // Moreau: x - p lies in the polar cone -K_{1/mu} and is orthogonal to p.
           const Vec<n> q = lin(1., x, -1., p);
@@ -863,7 +879,7 @@ namespace
   TYPED_TEST(DruckerPrager, ProjectionOntoTruncatedCone)
   {
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(23);
+    Sampler               rng(23);
     for (const Params &P : all_params)
       {
         std::array<int, 4> count{};
@@ -916,7 +932,7 @@ namespace
   {
     // (17) and (47a)-(47c): D_hat is in K_{1/mu} iff D_N >= 0, on its boundary iff D_N = 0.
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(24);
+    Sampler               rng(24);
     for (const double mu : {0.3, 1., 2.5})
       for (int k = 0; k < 2000; ++k)
         {
@@ -937,10 +953,49 @@ namespace
 
   // =============================================================== Theorems 1-3 and Corollary 1
 
+  TYPED_TEST(DruckerPrager, ResidualValuesAreDefinitions2And3)
+  {
+    // Values, not only zero sets, on arbitrary pairs: Definition 2 with Pi_{R+} and the projection
+    // onto the ball B(kappa(lambda_N)) (radius clipped at 0), and (18) with (17) and the reference
+    // projection onto K_{mu,Bi}.
+    constexpr std::size_t n = TypeParam::n;
+    Sampler               rng(35);
+    for (const Params &P : all_params)
+      for (int k = 0; k < 2000; ++k)
+        {
+          const Pair<n> q     = mixed_pair<n>(rng, P.mu, P.Bi);
+          const double  scale = pair_scale(q, P.Bi);
+          SCOPED_TRACE(testing::Message() << "mu " << P.mu << " Bi " << P.Bi << " sample " << k);
+          for (const auto &xi : ac_xis)
+            {
+              Vec<n> f{};
+              f[0]               = std::max(0., q.lambda[0] - xi[0] * q.D[0]) - q.lambda[0];
+              const double kappa = std::max(0., P.Bi + P.mu * q.lambda[0]);
+              Vec<n>       y{};
+              for (std::size_t i = 1; i < n; ++i)
+                y[i] = q.lambda[i] - xi[1] * q.D[i];
+              const double ty = len_T(y);
+              for (std::size_t i = 1; i < n; ++i)
+                f[i] = (ty > kappa ? kappa * y[i] / ty : y[i]) - q.lambda[i];
+              ASSERT_LE(dist(f_AC(q.lambda, q.D, P.mu, P.Bi, xi[0], xi[1]), f),
+                        rel_tol * scale * (1. + xi[0] + xi[1]));
+            }
+          for (const double xi : ds_xis)
+            {
+              Vec<n> D_hat = q.D;
+              D_hat[0] += P.mu * len_T(q.D);
+              const Vec<n> f =
+                  lin(1., reference_projection(lin(1., q.lambda, -xi, D_hat), P.mu, P.Bi), -1.,
+                      q.lambda);
+              ASSERT_LE(dist(f_DS(q.lambda, q.D, P.mu, P.Bi, xi), f), rel_tol * scale * (1. + xi));
+            }
+        }
+  }
+
   TYPED_TEST(DruckerPrager, ResidualsVanishOnDP)
   {
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(31);
+    Sampler               rng(31);
     for (const Params &P : all_params)
       {
         std::array<int, 2> flowing_dilating{}; // per flowing / rigid
@@ -960,7 +1015,9 @@ namespace
             for (const double xi : ds_xis)
               ASSERT_LE(len(f_DS(q.lambda, q.D, P.mu, P.Bi, xi)), rel_tol * scale * (1. + xi));
             if (P.Bi == 0.)
-              ASSERT_LE(len(f_FB(q.lambda, q.D, P.mu)), rel_tol * scale) << "f_FB";
+              {
+                ASSERT_LE(len(f_FB(q.lambda, q.D, P.mu)), rel_tol * scale) << "f_FB";
+              }
           }
         EXPECT_GT(flowing_dilating[0], 0);
         EXPECT_GT(flowing_dilating[1], 0);
@@ -970,7 +1027,7 @@ namespace
   TYPED_TEST(DruckerPrager, ResidualsNonzeroOffDP)
   {
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(32);
+    Sampler               rng(32);
     for (const Params &P : all_params)
       for (int k = 0; k < 3500; ++k)
         {
@@ -986,14 +1043,16 @@ namespace
           for (const double xi : ds_xis)
             ASSERT_GT(len(f_DS(q.lambda, q.D, P.mu, P.Bi, xi)), nonzero_tol * scale);
           if (P.Bi == 0.)
-            ASSERT_GT(len(f_FB(q.lambda, q.D, P.mu)), nonzero_tol * scale) << "f_FB";
+            {
+              ASSERT_GT(len(f_FB(q.lambda, q.D, P.mu)), nonzero_tol * scale) << "f_FB";
+            }
         }
   }
 
   TYPED_TEST(DruckerPrager, ZeroSetsAgreeWith13)
   {
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(33);
+    Sampler               rng(33);
     for (const Params &P : all_params)
       {
         std::array<int, 2> count{};
@@ -1003,22 +1062,23 @@ namespace
             const double  scale = pair_scale(q, P.Bi);
             const bool    in_dp = in_DP_13(q.lambda, q.D, P.mu, P.Bi, 1e-12 * scale);
             ++count[in_dp];
-            SCOPED_TRACE(testing::Message()
-                         << "mu " << P.mu << " Bi " << P.Bi << " sample " << k << " in DP " << in_dp);
+            SCOPED_TRACE(testing::Message() << "mu " << P.mu << " Bi " << P.Bi << " sample " << k
+                                            << " in DP " << in_dp);
             // f == 0 iff (13); and off DP the residual is clearly away from rounding.
-            const auto check = [&](const double f, const double zero_tol) {
-              if (in_dp)
-                ASSERT_LE(f, zero_tol);
-              else
-                ASSERT_GT(f, nonzero_tol * scale);
-            };
             for (const auto &xi : ac_xis)
-              check(len(f_AC(q.lambda, q.D, P.mu, P.Bi, xi[0], xi[1])),
-                    rel_tol * scale * (1. + xi[0] + xi[1]));
+              ASSERT_TRUE(zero_iff(in_dp, len(f_AC(q.lambda, q.D, P.mu, P.Bi, xi[0], xi[1])),
+                                   rel_tol * scale * (1. + xi[0] + xi[1]), nonzero_tol * scale))
+                  << "f_AC, xi " << xi[0] << ' ' << xi[1];
             for (const double xi : ds_xis)
-              check(len(f_DS(q.lambda, q.D, P.mu, P.Bi, xi)), rel_tol * scale * (1. + xi));
+              ASSERT_TRUE(zero_iff(in_dp, len(f_DS(q.lambda, q.D, P.mu, P.Bi, xi)),
+                                   rel_tol * scale * (1. + xi), nonzero_tol * scale))
+                  << "f_DS, xi " << xi;
             if (P.Bi == 0.)
-              check(len(f_FB(q.lambda, q.D, P.mu)), rel_tol * scale);
+              {
+                ASSERT_TRUE(zero_iff(in_dp, len(f_FB(q.lambda, q.D, P.mu)), rel_tol * scale,
+                                     nonzero_tol * scale))
+                    << "f_FB";
+              }
           }
         EXPECT_GE(count[0], 2000) << "mu " << P.mu << " Bi " << P.Bi;
         EXPECT_GE(count[1], 1500) << "mu " << P.mu << " Bi " << P.Bi;
@@ -1029,7 +1089,7 @@ namespace
   {
     constexpr int         d = TypeParam::dim;
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(34);
+    Sampler               rng(34);
     for (const Params &P : all_params)
       {
         // (i) the same pairs seen as tensors through chi
@@ -1040,9 +1100,10 @@ namespace
             const double  tol   = 1e-12 * pair_scale(q, P.Bi);
             const bool    in_dp = in_DP_13(q.lambda, q.D, P.mu, P.Bi, tol);
             ++count[in_dp];
-            ASSERT_EQ(in_DP_3<d>(to_mat<d>(chi<d>(q.lambda)), to_mat<d>(chi<d>(q.D)), P.mu, P.Bi, tol),
-                      in_dp)
-              << "mu " << P.mu << " Bi " << P.Bi << " sample " << k;
+            ASSERT_EQ(
+                in_DP_3<d>(to_mat<d>(chi<d>(q.lambda)), to_mat<d>(chi<d>(q.D)), P.mu, P.Bi, tol),
+                in_dp)
+                << "mu " << P.mu << " Bi " << P.Bi << " sample " << k;
           }
         EXPECT_GE(count[0], 500);
         EXPECT_GE(count[1], 500);
@@ -1052,7 +1113,7 @@ namespace
         for (int k = 0; k < 3000; ++k)
           {
             const bool   flowing = k % 2 == 0, wrong_sign = k % 5 == 0 && flowing;
-            const Normal normal  = static_cast<Normal>((k / 2) % 3);
+            const Normal normal = static_cast<Normal>((k / 2) % 3);
             double       p = 0., trD = 0.;
             set_normal(rng, normal, p, trD);
             Mat<d> D{};
@@ -1060,14 +1121,15 @@ namespace
               for (int i = 0; i < d; ++i)
                 for (int j = i; j < d; ++j)
                   D[i][j] = D[j][i] = rng.uniform(-2., 2.);
-            D = tlin<d>(1., dev<d>(D), trD / d, identity<d>());
+            D                  = tlin<d>(1., dev<d>(D), trD / d, identity<d>());
             const double kappa = P.Bi + P.mu * std::sqrt(d / 2.) * p; // kappa(sqrt(d/2) p)
             Mat<d>       tau{};
             if (flowing)
               {
                 // with kappa = 0, any nonzero shear stress is wrong
-                const double size = wrong_sign ? -(kappa > 0. ? kappa : rng.uniform(0.05, 1.)) : kappa;
-                tau               = tlin<d>(size / tnorm<d>(dev<d>(D)), dev<d>(D), 0., D);
+                const double size =
+                    wrong_sign ? -(kappa > 0. ? kappa : rng.uniform(0.05, 1.)) : kappa;
+                tau = tlin<d>(size / tnorm<d>(dev<d>(D)), dev<d>(D), 0., D);
               }
             else
               {
@@ -1078,22 +1140,17 @@ namespace
                 tau = tlin<d>(rng.uniform(0., 1.) * kappa / tnorm<d>(tau), tau, 0., tau);
               }
             const Mat<d> lambda = tlin<d>(p, identity<d>(), -1., tau);
-            const Vec<n> l = chi_inverse<d>(from_mat<d>(lambda)), g = chi_inverse<d>(from_mat<d>(D));
-            const double scale = 1. + len(l) + len(g) + P.Bi;
+            const Vec<n> l      = chi_inverse<d>(from_mat<d>(lambda)),
+                         g      = chi_inverse<d>(from_mat<d>(D));
+            const double scale  = 1. + len(l) + len(g) + P.Bi;
             SCOPED_TRACE(testing::Message() << "mu " << P.mu << " Bi " << P.Bi << " sample " << k);
             ASSERT_EQ(in_DP_3<d>(lambda, D, P.mu, P.Bi, 1e-12 * scale), !wrong_sign);
             ASSERT_EQ(in_DP_13(l, g, P.mu, P.Bi, 1e-12 * scale), !wrong_sign);
             const double f_ac = len(f_AC(l, g, P.mu, P.Bi)), f_ds = len(f_DS(l, g, P.mu, P.Bi));
-            if (wrong_sign)
-              {
-                ASSERT_GT(f_ac, nonzero_tol * scale);
-                ASSERT_GT(f_ds, nonzero_tol * scale);
-              }
-            else
-              {
-                ASSERT_LE(f_ac, rel_tol * scale);
-                ASSERT_LE(f_ds, rel_tol * scale);
-              }
+            ASSERT_TRUE(zero_iff(!wrong_sign, f_ac, rel_tol * scale, nonzero_tol * scale))
+                << "f_AC";
+            ASSERT_TRUE(zero_iff(!wrong_sign, f_ds, rel_tol * scale, nonzero_tol * scale))
+                << "f_DS";
           }
       }
   }
@@ -1103,52 +1160,57 @@ namespace
   TYPED_TEST(DruckerPrager, FischerBurmeisterZeroIffComplementary)
   {
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(41);
+    Sampler               rng(41);
     for (int k = 0; k < 6000; ++k)
       {
         const auto [u1, u2] = jordan_frame(rng.direction<n>());
-        const auto coeff    = [&](const bool may_vanish) {
-          return may_vanish && rng.coin(0.3) ? 0. : rng.uniform(0.01, 3.);
-        };
-        Vec<n> x{}, y{};
-        bool   complementary = true;
+        // spectral coefficients in (0.01, 3), and some of them snapped to zero
+        std::array<double, 3> c{}, c0{};
+        for (std::size_t i = 0; i < 3; ++i)
+          {
+            c[i]  = rng.uniform(0.01, 3.);
+            c0[i] = rng.coin(0.3) ? 0. : c[i];
+          }
+        const bool first = rng.coin();
+        Vec<n>     x{}, y{};
+        bool       complementary = true;
         switch (k % 8)
           {
-            case 0: // boundary rays of the same frame, a, b >= 0
-              x = lin(coeff(true), u1, 0., u1);
-              y = lin(coeff(true), u2, 0., u2);
-              break;
-            case 1: // interior and zero
-              x = lin(coeff(false), u1, coeff(false), u2);
-              break;
-            case 2: // zero and boundary
-              y = lin(coeff(false), u2, 0., u2);
-              break;
-            case 3: // same ray: x.y > 0
-              x             = lin(coeff(false), u1, 0., u1);
-              y             = lin(coeff(false), u1, 0., u1);
-              complementary = false;
-              break;
-            case 4: // interior and nonzero
-              x             = lin(coeff(false), u1, coeff(false), u2);
-              y             = lin(coeff(false), rng.coin() ? u1 : u2, 0., u1);
-              complementary = false;
-              break;
-            case 5: // x outside K_1 (negative eigenvalue), y = 0 or orthogonal to x
-              x             = lin(-coeff(false), u1, coeff(true), u2);
-              y             = lin(coeff(true), u1, 0., u1);
-              complementary = false;
-              break;
-            case 6: // y outside K_1 though x.y could vanish
-              x             = lin(coeff(false), u1, 0., u1);
-              y             = lin(coeff(false), u2, -coeff(false), u1);
-              complementary = false;
-              break;
-            default: // random
-              x             = rng.vec<n>(-2., 2.);
-              y             = rng.vec<n>(-2., 2.);
-              complementary = false;
-              break;
+          case 0: // the two boundary rays of one frame, a, b >= 0
+            x = lin(c0[0], u1, 0., u1);
+            y = lin(c0[1], u2, 0., u2);
+            break;
+          case 1: // interior and zero
+            x = lin(c[0], u1, c[1], u2);
+            break;
+          case 2: // zero and boundary
+            y = lin(c[0], u2, 0., u2);
+            break;
+          case 3: // the same ray: x.y > 0
+            x             = lin(c[0], u1, 0., u1);
+            y             = lin(c[1], u1, 0., u1);
+            complementary = false;
+            break;
+          case 4: // interior and nonzero: x.y > 0
+            x             = lin(c[0], u1, c[1], u2);
+            y             = lin(c[2], first ? u1 : u2, 0., u1);
+            complementary = false;
+            break;
+          case 5: // x outside K_1 (a negative spectral value), y in K_1, possibly 0
+            x             = lin(-c[0], u1, c0[1], u2);
+            y             = lin(c0[2], u1, 0., u1);
+            complementary = false;
+            break;
+          case 6: // y outside K_1
+            x             = lin(c[0], u1, 0., u1);
+            y             = lin(c[1], u2, -c[2], u1);
+            complementary = false;
+            break;
+          default: // random
+            x             = rng.vec<n>(-2., 2.);
+            y             = rng.vec<n>(-2., 2.);
+            complementary = false;
+            break;
           }
         if (rng.coin())
           std::swap(x, y);
@@ -1156,13 +1218,11 @@ namespace
         const double f     = len(fischer_burmeister_K1(x, y));
         SCOPED_TRACE(testing::Message() << "sample " << k);
         // the predicate itself, independent of the construction
-        const bool predicate = len_T(x) <= x[0] + 1e-12 * scale && len_T(y) <= y[0] + 1e-12 * scale &&
+        const bool predicate = len_T(x) <= x[0] + 1e-12 * scale &&
+                               len_T(y) <= y[0] + 1e-12 * scale &&
                                std::abs(dot(x, y)) <= 1e-12 * scale * scale;
         ASSERT_EQ(predicate, complementary);
-        if (complementary)
-          ASSERT_LE(f, rel_tol * scale);
-        else
-          ASSERT_GT(f, nonzero_tol * scale);
+        ASSERT_TRUE(zero_iff(complementary, f, rel_tol * scale, nonzero_tol * scale));
         ASSERT_LE(dist(fischer_burmeister_K1(x, y), fischer_burmeister_K1(y, x)), rel_tol * scale);
       }
   }
@@ -1171,11 +1231,11 @@ namespace
   {
     // phi = x + y - w with w in K_1 and w o w = x o x + y o y (w is the unique such root).
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(42);
+    Sampler               rng(42);
     for (int k = 0; k < 4000; ++k)
       {
         const Vec<n> x = rng.vec<n>(-2., 2.), y = k % 4 == 0 ? Vec<n>{} : rng.vec<n>(-2., 2.);
-        const Vec<n> w = lin(1., lin(1., x, 1., y), -1., fischer_burmeister_K1(x, y));
+        const Vec<n> w     = lin(1., lin(1., x, 1., y), -1., fischer_burmeister_K1(x, y));
         const double scale = 1. + dot(x, x) + dot(y, y);
         ASSERT_LE(len_T(w), w[0] + rel_tol * std::sqrt(scale));
         ASSERT_LE(dist(jordan(w, w), lin(1., jordan(x, x), 1., jordan(y, y))), rel_tol * scale);
@@ -1187,7 +1247,7 @@ namespace
     // f_FB(lambda, D) = 0 iff K_mu ∋ lambda ⊥ D_hat ∈ K_{1/mu} (Corollary 1), checked on the
     // complementarity predicate computed here, for mu > 0.
     constexpr std::size_t n = TypeParam::n;
-    Sampler rng(43);
+    Sampler               rng(43);
     for (const double mu : {0.3, 1., 2.5})
       {
         std::array<int, 2> count{};
@@ -1198,14 +1258,14 @@ namespace
             const double  scale = pair_scale(q, 0.);
             const double  tol   = 1e-12 * scale;
             const bool    soccp = len_T(q.lambda) <= mu * q.lambda[0] + tol &&
-                               mu * len_T(h) <= h[0] + tol && std::abs(dot(q.lambda, h)) <= tol * scale;
-            ASSERT_EQ(soccp, in_DP_13(q.lambda, q.D, mu, 0., tol)) << "mu " << mu << " sample " << k;
+                               mu * len_T(h) <= h[0] + tol &&
+                               std::abs(dot(q.lambda, h)) <= tol * scale;
+            ASSERT_EQ(soccp, in_DP_13(q.lambda, q.D, mu, 0., tol))
+                << "mu " << mu << " sample " << k;
             ++count[soccp];
             const double f = len(f_FB(q.lambda, q.D, mu));
-            if (soccp)
-              ASSERT_LE(f, rel_tol * scale) << "mu " << mu << " sample " << k;
-            else
-              ASSERT_GT(f, nonzero_tol * scale) << "mu " << mu << " sample " << k;
+            ASSERT_TRUE(zero_iff(soccp, f, rel_tol * scale, nonzero_tol * scale))
+                << "mu " << mu << " sample " << k;
           }
         EXPECT_GE(count[0], 1000);
         EXPECT_GE(count[1], 1000);

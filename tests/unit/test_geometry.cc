@@ -31,7 +31,10 @@
 #include <functional>
 #include <initializer_list>
 #include <limits>
+#include <map>
 #include <set>
+#include <string>
+#include <vector>
 
 namespace
 {
@@ -50,7 +53,7 @@ namespace
     SetUp() override
     {
       const auto *test = ::testing::UnitTest::GetInstance()->current_test_info();
-      dir = fs::temp_directory_path() /
+      dir              = fs::temp_directory_path() /
             ("granflow_test_geometry_" + std::to_string(::getpid()) + "_" + test->name());
       fs::create_directories(dir);
     }
@@ -135,11 +138,11 @@ namespace
 
   /// Every vertex of boundary `name` satisfies `on`, and its faces add up to `length`.
   void
-  expect_boundary(const Mesh                                   &mesh,
-                  const std::string                            &name,
-                  double                                        length,
+  expect_boundary(const Mesh                                  &mesh,
+                  const std::string                           &name,
+                  double                                       length,
                   const std::function<bool(const Point<2> &)> &on,
-                  double                                        relative_tolerance = 1e-12)
+                  double                                       relative_tolerance = 1e-12)
   {
     SCOPED_TRACE("boundary " + name);
     const auto id = mesh.id(name, "test");
@@ -147,8 +150,10 @@ namespace
     for (const auto &cell : mesh.triangulation.active_cell_iterators())
       for (const auto &face : cell->face_iterators())
         if (face->at_boundary() && face->boundary_id() == id)
-          for (unsigned int v = 0; v < 2; ++v)
-            EXPECT_TRUE(on(face->vertex(v))) << face->vertex(v);
+          {
+            for (unsigned int v = 0; v < 2; ++v)
+              EXPECT_TRUE(on(face->vertex(v))) << face->vertex(v);
+          }
   }
 
   std::function<bool(const Point<2> &)>
@@ -231,18 +236,23 @@ namespace
 
   /// A Gmsh MSH 2.2 file on the unit square: nodes 1-4 counterclockwise from the origin.
   void
-  write_unit_square_msh2(const std::string &file, const std::string &names, const std::string &elements)
+  write_unit_square_msh2(const std::string &file,
+                         const std::string &names,
+                         const std::string &elements)
   {
     std::ofstream out(file);
     out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
-        << "$PhysicalNames\n" << names << "$EndPhysicalNames\n"
+        << "$PhysicalNames\n"
+        << names << "$EndPhysicalNames\n"
         << "$Nodes\n4\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n$EndNodes\n"
-        << "$Elements\n" << elements << "$EndElements\n";
+        << "$Elements\n"
+        << elements << "$EndElements\n";
   }
 
   // Element lines: number, type (1 line, 2 triangle, 3 quad), 2 tags (physical, elementary), nodes.
   const std::string square_names = "3\n1 1 \"wall\"\n1 2 \"lid\"\n2 3 \"domain\"\n";
-  const std::string square_lines = "1 1 2 1 11 1 2\n2 1 2 1 12 2 3\n3 1 2 2 13 3 4\n4 1 2 1 14 4 1\n";
+  const std::string square_lines =
+    "1 1 2 1 11 1 2\n2 1 2 1 12 2 3\n3 1 2 2 13 3 4\n4 1 2 1 14 4 1\n";
   // The second triangle is clockwise.
   const std::string square_triangles = "5 2 2 3 21 1 2 3\n6 2 2 3 21 1 4 3\n";
 
@@ -281,7 +291,8 @@ namespace
   {
     const double W = 4, H = 3, D = 1, extension = 0.5;
     Mesh         mesh;
-    granflow::geometry::make_half_silo(mesh, W, H, D, extension, 0.25, path("silo.msh"), "case.prm");
+    granflow::geometry::make_half_silo(
+      mesh, W, H, D, extension, 0.25, path("silo.msh"), "case.prm");
 
     expect_area(mesh, W * H + D / 2 * extension);
     expect_names(mesh, {"axis", "wall", "bottom", "top", "outlet", "outlet_wall"});
@@ -319,12 +330,14 @@ namespace
   {
     const double length = 4, width = 1, D = 0.25, h = 0.1;
     Mesh         mesh;
-    granflow::geometry::make_cylinder_channel(mesh, length, width, D, h, path("cyl.msh"), "case.prm");
+    granflow::geometry::make_cylinder_channel(
+      mesh, length, width, D, h, path("cyl.msh"), "case.prm");
 
     // The cylinder is an inscribed polygon: the hole is slightly too small.
     const double exact_area = length * width - pi * D * D / 4;
     EXPECT_NEAR(area_from_measures(mesh.triangulation), exact_area, 0.01 * exact_area);
-    EXPECT_NEAR(area_from_quadrature(mesh.triangulation), area_from_measures(mesh.triangulation),
+    EXPECT_NEAR(area_from_quadrature(mesh.triangulation),
+                area_from_measures(mesh.triangulation),
                 1e-12 * exact_area);
     EXPECT_GT(area_from_measures(mesh.triangulation), exact_area);
 
@@ -335,8 +348,11 @@ namespace
     expect_boundary(mesh, "inlet", width, on_x(-length / 2, -width / 2, width / 2));
     expect_boundary(mesh, "outlet", width, on_x(length / 2, -width / 2, width / 2));
     expect_boundary(
-      mesh, "cylinder", pi * D,
-      [&](const Point<2> &p) { return std::abs(p.norm() - D / 2) < 1e-9; }, 0.01);
+      mesh,
+      "cylinder",
+      pi * D,
+      [&](const Point<2> &p) { return std::abs(p.norm() - D / 2) < 1e-9; },
+      0.01);
 
     // Size h/3 on the cylinder, h on the walls.
     const double cylinder_edge = mean_edge_length(mesh.triangulation, mesh.id("cylinder", "test"));
@@ -351,8 +367,8 @@ namespace
     Mesh coarse, fine;
     granflow::geometry::make_channel(coarse, 2, 1, 0.1, path("coarse.msh"), "case.prm");
     granflow::geometry::make_channel(fine, 2, 1, 0.05, path("fine.msh"), "case.prm");
-    const double ratio = double(fine.triangulation.n_active_cells()) /
-                         double(coarse.triangulation.n_active_cells());
+    const double ratio =
+      double(fine.triangulation.n_active_cells()) / double(coarse.triangulation.n_active_cells());
     EXPECT_GT(ratio, 3.4);
     EXPECT_LT(ratio, 4.6);
   }
@@ -421,7 +437,9 @@ namespace
 
   TEST_F(Geometry, ReadsAUserMeshWithNamedCurvesAndReorientsTriangles)
   {
-    write_unit_square_msh2(path("square.msh"), square_names, "6\n" + square_lines + square_triangles);
+    write_unit_square_msh2(path("square.msh"),
+                           square_names,
+                           "6\n" + square_lines + square_triangles);
     Mesh mesh;
     granflow::geometry::read_mesh_file(mesh, path("square.msh"), "case.prm");
 
@@ -453,39 +471,38 @@ namespace
       {
         SCOPED_TRACE("h = " + std::to_string(h));
         Mesh mesh;
-        expect_contains(input_error([&] {
-                          granflow::geometry::make_channel(mesh, 2, 1, h, path("c.msh"), "case.prm");
-                        }),
-                        {"case.prm", "Geometry/mesh size", "expected a number in"});
+        expect_contains(
+          input_error(
+            [&] { granflow::geometry::make_channel(mesh, 2, 1, h, path("c.msh"), "case.prm"); }),
+          {"case.prm", "Geometry/Mesh size", "expected a number in"});
       }
   }
 
   TEST_F(Geometry, BadLengthsNameTheEntry)
   {
     using namespace granflow::geometry;
-    Mesh m;
+    Mesh       m;
     const auto f = path("m.msh");
     expect_contains(input_error([&] { make_channel(m, 2, -1, 0.1, f, "case.prm"); }),
-                    {"case.prm", "Geometry/width", "(0, inf)"});
+                    {"case.prm", "Geometry/Channel width", "(0, inf)"});
     expect_contains(input_error([&] { make_square_patch(m, 0, 0.1, f, "case.prm"); }),
-                    {"Geometry/size", "(0, inf)"});
+                    {"Geometry/Patch size", "(0, inf)"});
     expect_contains(input_error([&] { make_cylinder_channel(m, 4, 1, 1, 0.1, f, "case.prm"); }),
-                    {"Geometry/D", "(0, width = 1)"});
+                    {"Geometry/Cylinder diameter", "(0, width = 1)"});
     expect_contains(input_error([&] { make_half_silo(m, 1, 2, 2, 0, 0.1, f, "case.prm"); }),
-                    {"Geometry/D", "(0, 2 W = 2)"});
+                    {"Geometry/Aperture", "(0, 2 W = 2)"});
     expect_contains(input_error([&] { make_half_silo(m, 1, 2, 0.5, -1, 0.1, f, "case.prm"); }),
-                    {"Geometry/outlet extension", "[0, inf)"});
+                    {"Geometry/Outlet extension", "[0, inf)"});
     expect_contains(input_error([&] { make_half_silo(m, 1, -2, 0.5, 0, 0.1, f, "case.prm"); }),
-                    {"Geometry/H"});
+                    {"Geometry/Silo height"});
   }
 
   TEST_F(Geometry, UnwritableMeshPathIsReported)
   {
     Mesh       mesh;
     const auto f = path("missing_dir/channel.msh");
-    expect_contains(input_error([&] {
-                      granflow::geometry::make_channel(mesh, 2, 1, 0.1, f, "case.prm");
-                    }),
+    expect_contains(input_error(
+                      [&] { granflow::geometry::make_channel(mesh, 2, 1, 0.1, f, "case.prm"); }),
                     {"case.prm", f});
   }
 
@@ -494,7 +511,7 @@ namespace
     Mesh       mesh;
     const auto f = path("nowhere.msh");
     expect_contains(input_error([&] { granflow::geometry::read_mesh_file(mesh, f, "case.prm"); }),
-                    {"case.prm", "Geometry/mesh file", f});
+                    {"case.prm", "Geometry/Mesh file", f});
   }
 
   TEST_F(Geometry, MeshWithoutTrianglesIsRejected)
@@ -506,7 +523,8 @@ namespace
                     }),
                     {"case.prm", "lines.msh", "no triangles"});
 
-    write_unit_square_msh2(path("quads.msh"), square_names,
+    write_unit_square_msh2(path("quads.msh"),
+                           square_names,
                            "5\n" + square_lines + "5 3 2 3 21 1 2 3 4\n");
     expect_contains(input_error([&] {
                       granflow::geometry::read_mesh_file(mesh, path("quads.msh"), "case.prm");
@@ -518,8 +536,10 @@ namespace
   {
     Mesh mesh;
     // The lid (element 3) is left out of every physical curve.
-    write_unit_square_msh2(path("open.msh"), square_names,
-                           "5\n1 1 2 1 11 1 2\n2 1 2 1 12 2 3\n4 1 2 1 14 4 1\n" + square_triangles);
+    write_unit_square_msh2(path("open.msh"),
+                           square_names,
+                           "5\n1 1 2 1 11 1 2\n2 1 2 1 12 2 3\n4 1 2 1 14 4 1\n" +
+                             square_triangles);
     expect_contains(input_error([&] {
                       granflow::geometry::read_mesh_file(mesh, path("open.msh"), "case.prm");
                     }),
@@ -530,7 +550,8 @@ namespace
   {
     Mesh mesh;
     granflow::geometry::make_square_patch(mesh, 1, 0.5, path("patch.msh"), "case.prm");
-    expect_contains(input_error([&] { mesh.id("wall", "cases/silo.prm"); }),
-                    {"cases/silo.prm", "'wall'", "'bed'", "'downstream'", "'surface'", "'upstream'"});
+    expect_contains(
+      input_error([&] { mesh.id("wall", "cases/silo.prm"); }),
+      {"cases/silo.prm", "'wall'", "'bed'", "'downstream'", "'surface'", "'upstream'"});
   }
 } // namespace

@@ -511,15 +511,17 @@ namespace granflow::dp
           max_D0      = std::max(max_D0, D0_norm[i]);
           max_div     = std::max(max_div, div_u[i]);
         }
-      // Zones: rigid where the deviatoric strain rate vanishes (to 1e-6 of its maximum), dilating
-      // where div u > 1e-6 of the maximum shear rate, flowing otherwise.
-      const double threshold = 1e-6 * std::max(max_D0, 1e-300);
+      // Zones, judged on the scaled strain rate gamma the solver's residual measures: rigid where
+      // ||gamma_T|| is zero to the solver tolerance (in a rigid zone the Alart-Curnier residual is
+      // exactly -gamma_T), dilating where gamma_N exceeds it, flowing otherwise.
+      const double threshold = 10. * prm.solver.tolerance;
       std::size_t  n_rigid = 0, n_flowing = 0, n_dilating = 0;
       for (std::size_t i = 0; i < n_points; ++i)
         {
-          if (div_u[i] > threshold)
+          const double *g = &solution.gamma[i * s_d];
+          if (g[0] > threshold)
             zone[i] = 2, ++n_dilating;
-          else if (D0_norm[i] <= threshold)
+          else if (std::hypot(g[1], g[2]) <= threshold)
             zone[i] = 0, ++n_rigid;
           else
             zone[i] = 1, ++n_flowing;
@@ -619,13 +621,27 @@ namespace granflow::dp
           S["max_rel_error_shear"] = max_shear_err / max_shear_ref;
           if (reference == "bingham poiseuille")
             {
-              // The plug |y| < Bi must be rigid: D0(u) = 0 at its constraint points.
-              double plug_D0 = 0.;
-              std::size_t plug_points = 0;
+              // The plug must be rigid: at the constraint points farther than two elements from
+              // the analytic yield surface |y| = Bi (the discrete yield surface is only O(h)
+              // accurate), ||gamma_T|| (the tangential Alart-Curnier residual there) and D0(u)
+              // vanish to the solver tolerance.
+              double h = 0.; // longest edge (cell->diameter() is for hypercubes in 9.4)
+              for (const auto &cell : mesh.triangulation.active_cell_iterators())
+                for (unsigned int e = 0; e < 3; ++e)
+                  h = std::max(h, cell->vertex(e).distance(cell->vertex((e + 1) % 3)));
+              double       plug_gamma_T = 0., plug_D0 = 0.;
+              std::size_t  plug_points = 0;
               for (std::size_t i = 0; i < n_points; ++i)
-                if (std::abs(point_location[i][1]) < Bi)
-                  plug_D0 = std::max(plug_D0, D0_norm[i]), ++plug_points;
+                if (std::abs(point_location[i][1]) < Bi - 2. * h)
+                  {
+                    plug_gamma_T = std::max(plug_gamma_T, std::hypot(solution.gamma[i * s_d + 1],
+                                                                     solution.gamma[i * s_d + 2]));
+                    plug_D0      = std::max(plug_D0, D0_norm[i]);
+                    ++plug_points;
+                  }
               S["plug"] = {{"points", plug_points},
+                           {"max_scaled_strain_rate_T", plug_gamma_T},
+                           {"rigid_threshold", threshold},
                            {"max_deviatoric_strain_rate", plug_D0},
                            {"relative_to_max", plug_D0 / std::max(max_D0, 1e-300)}};
             }
