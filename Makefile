@@ -1,7 +1,7 @@
 # The two commands of the README: `make run` and `make test`. Everything else is for developers.
 BUILD_DIR ?= build
 JOBS      ?= $(shell nproc)
-DEFAULT_CASE ?= cases/daviet2016/bingham_poiseuille.prm
+DEFAULT_CASE ?= cases/daviet2016/cylinder.prm
 
 .PHONY: run test deps build configure bench format clean
 

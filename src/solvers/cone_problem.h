@@ -50,7 +50,7 @@ namespace granflow::solvers
     ResidualKind residual     = ResidualKind::fischer_burmeister; // AC is used where Bi > 0
     double       tolerance    = 1e-6;  // infinity norm of the residual over the constraint points
     unsigned int max_outer_iterations = 200;
-    unsigned int max_inner_iterations = 5000;
+    unsigned int max_inner_iterations = 300; // per fixed-point iteration: the outer loop goes on from the warm start
     /// The inner SOCQP (37) is solved to inner_tolerance_factor times the current outer residual
     /// (never below tolerance / 10): early fixed-point iterations need no accurate inner solve.
     double        inner_tolerance_factor = 0.1;

@@ -54,7 +54,7 @@ namespace granflow::dp
     std::string  residual              = "fischer-burmeister"; // or alart-curnier
     double       tolerance             = 1e-6;
     unsigned int max_outer_iterations  = 500;
-    unsigned int max_inner_iterations  = 5000;
+    unsigned int max_inner_iterations  = 300;
     unsigned int viscosity_iterations  = 50;
     double       viscosity_tolerance   = 1e-5;
     std::string  dump_cone_problem     = ""; // file name under the output directory, empty: none
