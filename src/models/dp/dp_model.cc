@@ -639,6 +639,33 @@ namespace granflow::dp
                     plug_D0      = std::max(plug_D0, D0_norm[i]);
                     ++plug_points;
                   }
+              // Daviet Fig. 5: errors over the whole domain against the analytic profile, in the
+              // max norm and the H1 seminorm (at the points of a degree-6 rule).
+              QGaussSimplex<dim> q_err(4);
+              FEValues<dim>      fv(mapping, fe_u, q_err,
+                               update_values | update_gradients | update_quadrature_points |
+                                 update_JxW_values);
+              std::vector<Vector<double>>              uq(q_err.size(), Vector<double>(dim));
+              std::vector<std::vector<Tensor<1, dim>>> gq(q_err.size(),
+                                                          std::vector<Tensor<1, dim>>(dim));
+              double error_Linf = 0., error_H1_sq = 0.;
+              for (const auto &cell : dof_u.active_cell_iterators())
+                {
+                  fv.reinit(cell);
+                  fv.get_function_values(u, uq);
+                  fv.get_function_gradients(u, gq);
+                  for (unsigned int q = 0; q < q_err.size(); ++q)
+                    {
+                      const double y = fv.quadrature_point(q)[1];
+                      const double e = analytic::bingham_poiseuille_velocity(y, Bi, Re) - uq[q][0];
+                      error_Linf     = std::max({error_Linf, std::abs(e), std::abs(uq[q][1])});
+                      Tensor<1, dim> de = gq[q][0];
+                      de[1] -= analytic::bingham_poiseuille_shear_rate(y, Bi, Re);
+                      error_H1_sq += (de * de + gq[q][1] * gq[q][1]) * fv.JxW(q);
+                    }
+                }
+              S["error_Linf"] = error_Linf;
+              S["error_H1"]   = std::sqrt(error_H1_sq);
               S["plug"] = {{"points", plug_points},
                            {"max_scaled_strain_rate_T", plug_gamma_T},
                            {"rigid_threshold", threshold},
