@@ -4,6 +4,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdlib>
 #include <iostream>
 
 int
@@ -30,7 +31,9 @@ main(int argc, char **argv)
       options.tolerance            = tolerance;
       options.residual             = ResidualKind::fischer_burmeister;
       options.max_outer_iterations = 1000;
-      options.max_inner_iterations = 20000;
+      options.max_inner_iterations = 300;
+      if (std::getenv("GRANFLOW_REPLAY_LOG"))
+        options.log = &std::cerr;
       ConeSolution solution;
       const auto   stats = solve_cone_problem(data, options, solution);
       results.push_back({{"inner_solver", name},

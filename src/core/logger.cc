@@ -22,8 +22,7 @@ namespace granflow
   void
   Logger::flush_table()
   {
-    file << table_buffer.str() << std::flush;
-    table_buffer.str("");
+    file << std::flush;
   }
 
   void

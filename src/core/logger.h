@@ -20,11 +20,12 @@ namespace granflow
     void
     print(const std::string &text);
 
-    /// A stream whose contents are printed by flush_table(); used for solver iteration tables.
+    /// The log file itself, for solver iteration tables (written as they happen, so a long or
+    /// interrupted run shows how far it got).
     std::ostream &
     table()
     {
-      return table_buffer;
+      return file;
     }
     void
     flush_table();
@@ -39,7 +40,6 @@ namespace granflow
   private:
     std::ofstream                         file;
     bool                                  echo;
-    std::ostringstream                    table_buffer;
     std::chrono::steady_clock::time_point start, last_progress;
     double                                progress_interval = 2.;
   };

@@ -191,25 +191,35 @@ namespace granflow::solvers
         : K(K)
         , W(W)
         , options(options)
+        , max_iterations(options.max_inner_iterations)
         , lipschitz(lipschitz)
         , step(1. / lipschitz)
       {}
+
+      unsigned int max_iterations; // per call; raised by the outer loop when it stalls
 
       /// Minimises from the warm start in `state`; returns the iteration count.
       unsigned int
       solve(Quadratic &state, const Vector &q, const double tolerance)
       {
+        unsigned int it = 0;
         switch (options.inner_solver)
           {
             case InnerSolver::projected_gradient:
-              return solve_pg(state, q, tolerance);
+              it = solve_pg(state, q, tolerance);
+              break;
             case InnerSolver::apgd:
-              return solve_apgd(state, q, tolerance);
+              it = solve_apgd(state, q, tolerance);
+              break;
             case InnerSolver::spg:
-              return solve_spg(state, q, tolerance);
+              it = solve_spg(state, q, tolerance);
+              break;
           }
-        return 0;
+        last_residual = K.projected_gradient_norm(state.x, state.g);
+        return it;
       }
+
+      double last_residual = 0.; // natural-map residual of the last inner solve
 
     private:
       /// d = Pi_K(x - step g) - x
@@ -229,7 +239,7 @@ namespace granflow::solvers
       {
         Vector       d, Wd;
         unsigned int it = 0;
-        for (; it < options.max_inner_iterations; ++it)
+        for (; it < max_iterations; ++it)
           {
             if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
               break;
@@ -254,7 +264,7 @@ namespace granflow::solvers
         Quadratic    y = s, x_new;
         Vector       diff;
         unsigned int it = 0;
-        for (; it < options.max_inner_iterations; ++it)
+        for (; it < max_iterations; ++it)
           {
             if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
               break;
@@ -308,7 +318,7 @@ namespace granflow::solvers
         std::vector<double>    J_history{s.J};
         Vector                 d, Wd;
         unsigned int           it = 0;
-        for (; it < options.max_inner_iterations; ++it)
+        for (; it < max_iterations; ++it)
           {
             if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
               break;
@@ -367,9 +377,10 @@ namespace granflow::solvers
 
       if (options.log)
         *options.log << "  Cadoux fixed point (" << to_string(options.inner_solver) << ")\n"
-                     << "   iter      residual   inner   W-apps      time[s]\n";
+                     << "   iter      residual   inner   W-apps      time[s]   inner-residual\n";
       Vector     q(m), gamma(m);
-      double     inner_factor = options.inner_tolerance_factor;
+      double       inner_factor          = options.inner_tolerance_factor;
+      unsigned int last_inner_iterations = 0;
       const auto t1           = Clock::now();
       for (;;)
         {
@@ -384,7 +395,9 @@ namespace granflow::solvers
             *options.log << std::setw(7) << stats.outer_iterations << std::setw(14) << std::scientific
                          << std::setprecision(4) << stats.residual << std::setw(8)
                          << stats.inner_iterations << std::setw(9) << W.applications << std::setw(13)
-                         << std::fixed << std::setprecision(3) << stats.time_history.back() << '\n'
+                         << std::fixed << std::setprecision(3) << stats.time_history.back()
+                         << std::setw(17) << std::scientific << std::setprecision(4)
+                         << inner.last_residual << std::endl
                          << std::defaultfloat;
           if (stats.residual <= options.tolerance)
             {
@@ -398,15 +411,23 @@ namespace granflow::solvers
           for (std::size_t i = 0; i < data.n_points(); ++i)
             q[i * n] += data.mu[i] * rheology::norm_T(K.block(gamma, i));
           state.refresh(q);
-          // The inner natural-map residual and the outer residual weigh the components
-          // differently: when the inner problem is already solved to the requested tolerance but
-          // the outer residual stalls, tighten the inner tolerance.
+          // When the outer residual stalls, the inner solves are the suspects: an inner solve
+          // that hit its iteration cap gets a higher cap (up to 64 times the option); one that
+          // reached its tolerance gets a tighter tolerance (the inner natural-map residual and
+          // the outer residual weigh the components differently).
           if (stats.outer_iterations > 0 &&
               stats.residual > 0.5 * stats.residual_history[stats.residual_history.size() - 2])
-            inner_factor = std::max(0.1 * inner_factor, 1e-6);
+            {
+              if (last_inner_iterations >= inner.max_iterations)
+                inner.max_iterations =
+                  std::min(2 * inner.max_iterations, 64 * options.max_inner_iterations);
+              else
+                inner_factor = std::max(0.1 * inner_factor, 1e-4);
+            }
           const double inner_tolerance =
             std::max(inner_factor * stats.residual, 1e-3 * options.tolerance);
-          stats.inner_iterations += inner.solve(state, q, inner_tolerance);
+          last_inner_iterations = inner.solve(state, q, inner_tolerance);
+          stats.inner_iterations += last_inner_iterations;
           ++stats.outer_iterations;
         }
       stats.time_solve            = seconds_since(t1);

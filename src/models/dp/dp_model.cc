@@ -493,7 +493,7 @@ namespace granflow::dp
       const double sqrt_2_over_d = std::sqrt(2. / dim); // p = sqrt(2/d) lambda_N (Property 2)
       std::vector<double> p(n_points), tau_xx(n_points), tau_xy(n_points), tau_norm(n_points),
         lambda_N(n_points), lambda_1(n_points), lambda_2(n_points), D0_norm(n_points), div_u(n_points),
-        zone(n_points);
+        zone(n_points), residual(n_points);
       double max_D0 = 0., max_div = 0.;
       for (std::size_t i = 0; i < n_points; ++i)
         {
@@ -509,6 +509,12 @@ namespace granflow::dp
           D0_norm[i]  = std::hypot(g[1], g[2]) / w;
           div_u[i]    = std::sqrt(2. * dim) * g[0] / w;
           max_D0      = std::max(max_D0, D0_norm[i]);
+          // Where the solver's residual is largest (the rheology is violated by this much).
+          const SymVector lv{l[0], l[1], l[2]}, gv{g[0], g[1], g[2]};
+          residual[i] = rheology::norm(
+            prm.solver.residual == "alart-curnier" || prm.rheology.Bi > 0. ?
+              rheology::f_AC(lv, gv, prm.rheology.mu, prm.rheology.Bi) :
+              rheology::f_FB(lv, gv, prm.rheology.mu));
           max_div     = std::max(max_div, div_u[i]);
         }
       // Zones, judged on the scaled strain rate gamma the solver's residual measures: rigid where
@@ -550,7 +556,8 @@ namespace granflow::dp
                        {"tau_xy", to_field(tau_xy)},     {"tau_norm", to_field(tau_norm)},
                        {"D0_norm", to_field(D0_norm)},   {"div_u", to_field(div_u)},
                        {"zone", to_field(zone)},         {"lambda_N", to_field(lambda_N)},
-                       {"lambda_1", to_field(lambda_1)}, {"lambda_2", to_field(lambda_2)}};
+                       {"lambda_1", to_field(lambda_1)}, {"lambda_2", to_field(lambda_2)},
+                       {"residual", to_field(residual)}};
 
       nlohmann::json &S = results.summary;
       S["case"]         = prm.name;
