@@ -54,6 +54,8 @@ namespace granflow::solvers
     /// The inner SOCQP (37) is solved to inner_tolerance_factor times the current outer residual
     /// (never below tolerance / 10): early fixed-point iterations need no accurate inner solve.
     double        inner_tolerance_factor = 0.1;
+    /// Anderson acceleration of the fixed point on s (0: plain Algorithm 1).
+    unsigned int  anderson_depth = 5;
     std::ostream *log                    = nullptr; // fixed-column iteration table, if set
   };
 

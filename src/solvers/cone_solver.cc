@@ -81,6 +81,96 @@ namespace granflow::solvers
       Vector                 rhs, velocity;
     };
 
+    /// Anderson acceleration (type II, depth m) of the fixed point s = F(s) of Algorithm 1:
+    /// s <- F(s) - sum_j c_j (F(s_j+1) - F(s_j)), with c minimising || f - sum_j c_j (f_j+1 - f_j) ||,
+    /// f = F(s) - s. The Cadoux map F is not a contraction in general (4.4.1); plain iteration can
+    /// cycle where mu is large. s stays >= 0.
+    class AndersonAcceleration
+    {
+    public:
+      explicit AndersonAcceleration(const unsigned int depth)
+        : depth(depth)
+      {}
+
+      void
+      update(Vector &s, const Vector &F_s)
+      {
+        Vector f = F_s;
+        add(f, -1., s);
+        if (!f_previous.empty())
+          {
+            Vector dF = f, dG = F_s;
+            add(dF, -1., f_previous);
+            add(dG, -1., F_previous);
+            dFs.push_back(std::move(dF));
+            dGs.push_back(std::move(dG));
+            if (dFs.size() > depth)
+              {
+                dFs.erase(dFs.begin());
+                dGs.erase(dGs.begin());
+              }
+          }
+        f_previous = f;
+        F_previous = F_s;
+        s          = F_s;
+        const std::size_t k = dFs.size();
+        if (k == 0)
+          return;
+        // Normal equations of the small least-squares problem, Tikhonov-regularised.
+        std::vector<std::vector<double>> M(k, std::vector<double>(k + 1, 0.));
+        for (std::size_t a = 0; a < k; ++a)
+          {
+            for (std::size_t b = 0; b < k; ++b)
+              M[a][b] = dot(dFs[a], dFs[b]);
+            M[a][a] *= 1. + 1e-10;
+            M[a][k] = dot(dFs[a], f);
+          }
+        for (std::size_t a = 0; a < k; ++a) // Gaussian elimination with partial pivoting
+          {
+            std::size_t pivot = a;
+            for (std::size_t b = a + 1; b < k; ++b)
+              if (std::abs(M[b][a]) > std::abs(M[pivot][a]))
+                pivot = b;
+            std::swap(M[a], M[pivot]);
+            if (M[a][a] == 0.)
+              return;
+            for (std::size_t b = a + 1; b < k; ++b)
+              {
+                const double r = M[b][a] / M[a][a];
+                for (std::size_t c = a; c <= k; ++c)
+                  M[b][c] -= r * M[a][c];
+              }
+          }
+        std::vector<double> c(k);
+        for (std::size_t a = k; a-- > 0;)
+          {
+            double r = M[a][k];
+            for (std::size_t b = a + 1; b < k; ++b)
+              r -= M[a][b] * c[b];
+            c[a] = r / M[a][a];
+          }
+        for (std::size_t a = 0; a < k; ++a)
+          add(s, -c[a], dGs[a]);
+        for (double &v : s)
+          v = std::max(v, 0.);
+      }
+
+      /// Forgets the history: the next update is a plain fixed-point step.
+      void
+      reset()
+      {
+        dFs.clear();
+        dGs.clear();
+        f_previous.clear();
+        F_previous.clear();
+      }
+
+    private:
+      unsigned int        depth;
+      std::vector<Vector> dFs, dGs;
+      Vector              f_previous, F_previous;
+    };
+
     /// Upper estimate of ||W|| (W symmetric positive semi-definite): 20 power iterations, plus 10 %.
     double
     estimate_norm(DelassusOperator &W, const std::size_t m)
@@ -378,9 +468,10 @@ namespace granflow::solvers
       if (options.log)
         *options.log << "  Cadoux fixed point (" << to_string(options.inner_solver) << ")\n"
                      << "   iter      residual   inner   W-apps      time[s]   inner-residual\n";
-      Vector     q(m), gamma(m);
+      Vector     q(m), gamma(m), s(data.n_points(), 0.), F_s(data.n_points(), 0.);
+      AndersonAcceleration anderson(options.anderson_depth);
       double       inner_factor          = options.inner_tolerance_factor;
-      unsigned int last_inner_iterations = 0;
+      unsigned int last_inner_iterations = 0, stalls = 0;
       const auto t1           = Clock::now();
       for (;;)
         {
@@ -406,17 +497,19 @@ namespace granflow::solvers
             }
           if (stats.outer_iterations == options.max_outer_iterations)
             break;
-          // s_i = mu_i || gamma_{i,T} ||, q = w + (s; 0)   (37)
-          q = w;
-          for (std::size_t i = 0; i < data.n_points(); ++i)
-            q[i * n] += data.mu[i] * rheology::norm_T(K.block(gamma, i));
-          state.refresh(q);
-          // When the outer residual stalls, the inner solves are the suspects: an inner solve
-          // that hit its iteration cap gets a higher cap (up to 64 times the option); one that
-          // reached its tolerance gets a tighter tolerance (the inner natural-map residual and
-          // the outer residual weigh the components differently).
-          if (stats.outer_iterations > 0 &&
-              stats.residual > 0.5 * stats.residual_history[stats.residual_history.size() - 2])
+          // No progress: the extrapolation (built on inexact evaluations of F) is dropped first;
+          // if the plain step stalls too, the inner solves are the suspects: one that hit its
+          // iteration cap gets a higher cap (up to 64 times the option), one that reached its
+          // tolerance a tighter tolerance (the inner natural-map residual and the outer
+          // residual weigh the components differently).
+          const bool stalled =
+            stats.outer_iterations > 0 &&
+            stats.residual > 0.9 * *std::min_element(stats.residual_history.begin(),
+                                                     stats.residual_history.end() - 1);
+          stalls = stalled ? stalls + 1 : 0;
+          if (stalled)
+            anderson.reset();
+          if (stalls >= 2)
             {
               if (last_inner_iterations >= inner.max_iterations)
                 inner.max_iterations =
@@ -424,6 +517,18 @@ namespace granflow::solvers
               else
                 inner_factor = std::max(0.1 * inner_factor, 1e-4);
             }
+          // F(s)_i = mu_i || gamma_{i,T} ||; the next s is F(s) (Algorithm 1) or its Anderson
+          // extrapolation; q = w + (s; 0)   (37)
+          for (std::size_t i = 0; i < data.n_points(); ++i)
+            F_s[i] = data.mu[i] * rheology::norm_T(K.block(gamma, i));
+          if (options.anderson_depth > 0 && stats.outer_iterations > 0)
+            anderson.update(s, F_s);
+          else
+            s = F_s;
+          q = w;
+          for (std::size_t i = 0; i < data.n_points(); ++i)
+            q[i * n] += s[i];
+          state.refresh(q);
           const double inner_tolerance =
             std::max(inner_factor * stats.residual, 1e-3 * options.tolerance);
           last_inner_iterations = inner.solve(state, q, inner_tolerance);

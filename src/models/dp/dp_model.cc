@@ -194,6 +194,41 @@ namespace granflow::dp
             }
         }
 
+      // Boundaries loaded by the traction of the analytic reference: Bagnold (6.1.3), the
+      // upstream / downstream stresses of the infinite layer. In the frame of the plane,
+      // sigma_tot = [[-p, s], [s, -p]] with p = (1 - y) cos a and s = (1 - y) sin a (the viscous
+      // part eta u' = (sin a - mu cos a)(1 - y) plus the saturated friction mu p).
+      const auto analytic_boundaries = split_list(prm.boundaries.analytic_traction);
+      if (!analytic_boundaries.empty())
+        {
+          QGauss<dim - 1>   face_quadrature(4);
+          FEFaceValues<dim> fvf(mapping, fe_u, face_quadrature,
+                                update_values | update_normal_vectors | update_JxW_values |
+                                  update_quadrature_points);
+          const double alpha = std::atan2(e_g[0], -e_g[1]);
+          for (const std::string &name : analytic_boundaries)
+            {
+              const types::boundary_id id = mesh.id(name, prm.case_file);
+              for (const auto &cell : dof_u.active_cell_iterators())
+                for (const unsigned int f : cell->face_indices())
+                  if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
+                    {
+                      fvf.reinit(cell, f);
+                      cell->get_dof_indices(dofs);
+                      for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                        {
+                          const double y = fvf.quadrature_point(q)[1];
+                          Tensor<2, dim> sigma;
+                          sigma[0][0] = sigma[1][1] = -(1. - y) * std::cos(alpha);
+                          sigma[0][1] = sigma[1][0] = (1. - y) * std::sin(alpha);
+                          const Tensor<1, dim> t = sigma * fvf.normal_vector(q);
+                          for (unsigned int i = 0; i < n; ++i)
+                            load[dofs[i]] += t * fvf[velocity].value(i, q) * fvf.JxW(q);
+                        }
+                    }
+            }
+        }
+
       data.A        = solvers::CsrMatrix();
       data.A.n_rows = data.A.n_cols = n_free;
       data.A.row_start.push_back(0);
@@ -372,6 +407,7 @@ namespace granflow::dp
       options.tolerance            = prm.solver.tolerance;
       options.max_outer_iterations = prm.solver.max_outer_iterations;
       options.max_inner_iterations = prm.solver.max_inner_iterations;
+      options.anderson_depth       = prm.solver.anderson_depth;
       options.log                  = &log.table();
       if (!prm.solver.dump_cone_problem.empty())
         solvers::save_cone_problem(data, out.file(prm.solver.dump_cone_problem));

@@ -103,6 +103,10 @@ namespace granflow::dp
                         "Cadoux fixed-point iterations before giving up.", Integer(1));
       prm.add_parameter("Max inner iterations", s.max_inner_iterations,
                         "Inner solver iterations per fixed-point iteration.", Integer(1));
+      prm.add_parameter("Anderson depth", s.anderson_depth,
+                        "Anderson acceleration of the Cadoux fixed point on s (0: plain Algorithm 1; "
+                        "the plain iteration can cycle for mu >= 0.5).",
+                        Integer(0, 20));
       prm.add_parameter("Viscosity iterations", s.viscosity_iterations,
                         "Fixed-point iterations on eta(x) (bagnold).", Integer(1));
       prm.add_parameter("Viscosity tolerance", s.viscosity_tolerance,
@@ -145,6 +149,9 @@ namespace granflow::dp
       throw InputError(f, "Geometry/Mesh file", "is empty: Shape = file needs a .msh file");
     if (rheology.viscosity == "bagnold")
       require_positive(rheology.viscosity_floor, f, "Rheology/Viscosity floor");
+    if (!boundaries.analytic_traction.empty() && output.reference != "bagnold")
+      throw InputError(f, "Boundary conditions/Analytic traction",
+                       "needs an analytic reference with stresses: set Output/Reference = bagnold");
     parse_point(output.profile_start, f, "Output/Profile start");
     parse_point(output.profile_end, f, "Output/Profile end");
     e_g();

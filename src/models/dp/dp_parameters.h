@@ -55,6 +55,7 @@ namespace granflow::dp
     double       tolerance             = 1e-6;
     unsigned int max_outer_iterations  = 500;
     unsigned int max_inner_iterations  = 300;
+    unsigned int anderson_depth        = 5;
     unsigned int viscosity_iterations  = 50;
     double       viscosity_tolerance   = 1e-5;
     std::string  dump_cone_problem     = ""; // file name under the output directory, empty: none
