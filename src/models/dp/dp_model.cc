@@ -483,7 +483,12 @@ namespace granflow::dp
           if (change <= prm.solver.viscosity_tolerance ||
               viscosity_iterations == prm.solver.viscosity_iterations)
             break;
-          eta = viscosity_from_velocity();
+          // Geometric relaxation eta <- sqrt(eta |D(u)|): in a flowing layer the stress does not
+          // depend on eta and u scales like 1/eta, so the plain update eta <- |D(u)| cycles
+          // between two states; the geometric mean is its fixed point.
+          const std::vector<double> eta_new = viscosity_from_velocity();
+          for (std::size_t k = 0; k < eta.size(); ++k)
+            eta[k] = std::sqrt(eta[k] * eta_new[k]);
         }
 
       solver_json = {{"inner_solver", prm.solver.inner_solver},
