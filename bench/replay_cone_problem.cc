@@ -13,7 +13,8 @@ main(int argc, char **argv)
   using namespace granflow::solvers;
   if (argc < 2)
     {
-      std::cerr << "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg ...]\n";
+      std::cerr << "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg ...]\n"
+                   "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n";
       return 2;
     }
   const ConeProblemData data      = load_cone_problem(argv[1]);
@@ -32,6 +33,8 @@ main(int argc, char **argv)
       options.residual             = ResidualKind::fischer_burmeister;
       options.max_outer_iterations = 1000;
       options.max_inner_iterations = 300;
+      if (const char *t = std::getenv("GRANFLOW_REPLAY_MAX_SECONDS"))
+        options.max_seconds = std::atof(t);
       if (std::getenv("GRANFLOW_REPLAY_LOG"))
         options.log = &std::cerr;
       ConeSolution solution;
@@ -39,6 +42,7 @@ main(int argc, char **argv)
       results.push_back({{"inner_solver", name},
                          {"converged", stats.converged},
                          {"residual", stats.residual},
+                         {"tolerance", tolerance},
                          {"time_factorize_s", stats.time_factorize},
                          {"time_solve_s", stats.time_solve},
                          {"time_total_s", stats.time_factorize + stats.time_solve},

@@ -2,9 +2,12 @@
 # Daviet 6.3.1 / Fig. 13: drag coefficient C_D = F_D / (U_inf^2 D / 2) against the Froude number
 # Fr = U_inf / sqrt(D) for a sweep of the downstream pressure p_ext and two cylinder diameters
 # (mu = 0.5, Re = 100, Bi = 0). Writes DIR/drag.csv and DIR/drag.png (log-log).
-#   scripts/cylinder_drag_sweep.sh [BUILD_DIR] [OUT_DIR]
+# The fixed point does not reach 1e-6 at mu = 0.5 (it stalls near 5e-5): the sweep runs at the
+# tolerance TOL (default 1e-4; on the mu = 0.3 case the drag at 1e-4 is within 6 % of the drag at
+# 1e-6, at 1e-5 within 1.3 %).
+#   scripts/cylinder_drag_sweep.sh [BUILD_DIR] [OUT_DIR] [TOL]
 set -euo pipefail
-build=${1:-build} out=${2:-results/cylinder_drag_sweep}
+build=${1:-build} out=${2:-results/cylinder_drag_sweep} tol=${3:-1e-4}
 mkdir -p "$out"
 csv="$out/drag.csv"
 echo "D,p_ext,U_infinity,Froude,drag,drag_coefficient,converged" >"$csv"
@@ -15,7 +18,7 @@ for D in 0.25 0.125; do
     "$build/apps/granflow" run cases/daviet2016/cylinder.prm --quiet --output "$run" \
       --set "Rheology/mu=0.5" --set "Geometry/Cylinder diameter=$D" \
       --set "Boundary conditions/External pressure=inlet: 0, outlet: $p" \
-      --set "Output/Write vtu=false" >/dev/null || status=$?
+      --set "Solver/Tolerance=$tol" --set "Output/Write vtu=false" >/dev/null || status=$?
     /usr/bin/python3 - "$run/summary.json" "$D" "$p" "$status" >>"$csv" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))

@@ -56,6 +56,7 @@ namespace granflow::solvers
     double        inner_tolerance_factor = 0.1;
     /// Anderson acceleration of the fixed point on s (0: plain Algorithm 1).
     unsigned int  anderson_depth = 5;
+    double        max_seconds            = 0.;      // wall-time limit of the solve, 0: none
     std::ostream *log                    = nullptr; // fixed-column iteration table, if set
   };
 

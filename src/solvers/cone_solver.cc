@@ -495,7 +495,8 @@ namespace granflow::solvers
               stats.converged = true;
               break;
             }
-          if (stats.outer_iterations == options.max_outer_iterations)
+          if (stats.outer_iterations == options.max_outer_iterations ||
+              (options.max_seconds > 0. && stats.time_history.back() > options.max_seconds))
             break;
           // No progress: the extrapolation (built on inexact evaluations of F) is dropped first;
           // if the plain step stalls too, the inner solves are the suspects: one that hit its

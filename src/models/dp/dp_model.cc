@@ -733,6 +733,43 @@ namespace granflow::dp
           const double F_D = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
                              postprocess::boundary_flux(mapping, dof_s, l_xy, id)[1];
           S["drag"] = F_D;
+          // Daviet 6.3.2 (Fig. 14), with the cylinder centred at the origin and the flow along +x:
+          // the wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
+          // divergence; the pressure peak on the centreline upstream (the arch) is located.
+          const double R = 0.5 * prm.geometry.cylinder_diameter;
+          double       wake_p = 0., wake_div = 0., wake_min_div = 1e300;
+          std::size_t  wake_points = 0;
+          std::map<int, std::pair<double, int>> centreline; // bins of width R/4 upstream
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              const Point<dim> &x = point_location[i];
+              if (x[0] > R && x[0] < 3. * R && std::abs(x[1]) < R)
+                {
+                  wake_p = std::max(wake_p, p[i]);
+                  wake_div += div_u[i];
+                  wake_min_div = std::min(wake_min_div, div_u[i]);
+                  ++wake_points;
+                }
+              if (x[0] < -R && std::abs(x[1]) < 0.25 * R)
+                {
+                  auto &bin = centreline[static_cast<int>(std::floor(x[0] / (0.25 * R)))];
+                  bin.first += p[i];
+                  ++bin.second;
+                }
+            }
+          double peak_x = 0., peak_p = -1.;
+          for (const auto &[bin, sum] : centreline)
+            if (sum.first / sum.second > peak_p)
+              {
+                peak_p = sum.first / sum.second;
+                peak_x = (bin + 0.5) * 0.25 * R;
+              }
+          S["wake"] = {{"points", wake_points},
+                       {"max_pressure", wake_p},
+                       {"mean_div_u", wake_div / std::max<std::size_t>(wake_points, 1)},
+                       {"min_div_u", wake_min_div}};
+          S["upstream_pressure_peak"] = {{"x", peak_x}, {"mean_pressure", peak_p},
+                                          {"distance_from_cylinder_over_D", (-peak_x - R) / (2. * R)}};
           if (!prm.output.inflow_boundary.empty())
             {
               const auto [flux, length] = postprocess::boundary_normal_flux(
