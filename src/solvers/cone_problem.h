@@ -8,6 +8,7 @@
 
 #include "solvers/sparse.h"
 
+#include <functional>
 #include <iosfwd>
 #include <string>
 #include <vector>
@@ -58,6 +59,8 @@ namespace granflow::solvers
     unsigned int  anderson_depth = 5;
     double        max_seconds            = 0.;      // wall-time limit of the solve, 0: none
     std::ostream *log                    = nullptr; // fixed-column iteration table, if set
+    /// Called after every fixed-point iteration with (iteration, residual): console progress.
+    std::function<void(unsigned int, double)> progress;
   };
 
   struct ConeSolverStats

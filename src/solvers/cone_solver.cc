@@ -490,6 +490,8 @@ namespace granflow::solvers
                          << std::setw(17) << std::scientific << std::setprecision(4)
                          << inner.last_residual << std::endl
                          << std::defaultfloat;
+          if (options.progress)
+            options.progress(stats.outer_iterations, stats.residual);
           if (stats.residual <= options.tolerance)
             {
               stats.converged = true;

@@ -360,7 +360,7 @@ namespace granflow::dp
       dof_s.distribute_dofs(fe_s);
 
       const auto &bc  = prm.boundaries;
-      const auto  add = [&](const std::string &list, const std::string &entry, const ComponentMask &mask) {
+      const auto  add = [&](const std::string &list, const ComponentMask &mask) {
         for (const std::string &name : split_list(list))
           {
             std::map<types::global_dof_index, double> values;
@@ -368,11 +368,10 @@ namespace granflow::dp
                                                      Functions::ZeroFunction<dim>(dim), values, mask);
             dirichlet.insert(values.begin(), values.end());
           }
-        (void)entry;
       };
-      add(bc.no_slip, "No-slip", ComponentMask());
-      add(bc.zero_x_velocity, "Zero x-velocity", ComponentMask(std::vector<bool>{true, false}));
-      add(bc.zero_y_velocity, "Zero y-velocity", ComponentMask(std::vector<bool>{false, true}));
+      add(bc.no_slip, ComponentMask());
+      add(bc.zero_x_velocity, ComponentMask(std::vector<bool>{true, false}));
+      add(bc.zero_y_velocity, ComponentMask(std::vector<bool>{false, true}));
       // Every named boundary of the load must exist too (checked before anything is solved).
       for (const auto &[name, p] :
            parse_named_values(bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
@@ -409,6 +408,12 @@ namespace granflow::dp
       options.max_inner_iterations = prm.solver.max_inner_iterations;
       options.anderson_depth       = prm.solver.anderson_depth;
       options.log                  = &log.table();
+      options.progress             = [this](const unsigned int k, const double r) {
+        std::ostringstream s;
+        s << "fixed-point iteration " << k << ": residual " << r << " (target "
+          << prm.solver.tolerance << ")";
+        log.progress(s.str());
+      };
       if (!prm.solver.dump_cone_problem.empty())
         solvers::save_cone_problem(data, out.file(prm.solver.dump_cone_problem));
       const auto stats = solvers::solve_cone_problem(data, options, solution);
