@@ -17,7 +17,7 @@ for r in $(seq 0 $((levels - 1))); do
   # Assemble and dump the cone problem (the run's own solve is capped: the replay measures).
   "$build/apps/granflow" run cases/daviet2016/silo_creeping.prm --quiet --output "$run" \
     --set "Geometry/Global refinements=$r" --set "Solver/Dump cone problem=cone_problem.bin" \
-    --set "Solver/Max outer iterations=1" --set "Output/Write vtu=false" >/dev/null || true
+    --set "Solver/Max outer iterations=1" --set "Output/Write vtu=false" >/dev/null 2>&1 || true
   vertices=$(/usr/bin/python3 -c "import json;print(json.load(open('$run/summary.json'))['mesh']['vertices'])")
   result=$("$build/bench/replay_cone_problem" "$run/cone_problem.bin" 1e-6 pg apgd spg)
   [ "$r" -gt 0 ] && echo "," >>"$out/table2.json"

@@ -472,11 +472,9 @@ namespace granflow::dp
           std::ostringstream s;
           s << "  solve " << viscosity_iterations << ": " << stats.outer_iterations
             << " fixed-point iterations, residual " << stats.residual << ", " << stats.time_solve << " s";
-          if (!stats.converged)
-            break;
-          if (!bagnold)
+          if (!stats.converged || !bagnold)
             {
-              log.print(s.str() + "\n");
+              log.print(s.str() + (stats.converged ? "\n" : " (not converged)\n"));
               break;
             }
           Vector<double> diff = u;
