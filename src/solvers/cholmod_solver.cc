@@ -12,12 +12,15 @@ namespace granflow::solvers
     cholmod_common  common;
     cholmod_factor *factor = nullptr;
     cholmod_dense  *rhs    = nullptr;
+    // Workspace of cholmod_solve2, reused across the hundreds of solves of a cone problem.
+    cholmod_dense *X = nullptr, *Y = nullptr, *E = nullptr;
 
     Impl() { cholmod_start(&common); }
     ~Impl()
     {
-      if (rhs)
-        cholmod_free_dense(&rhs, &common);
+      for (cholmod_dense **d : {&X, &Y, &E, &rhs})
+        if (*d)
+          cholmod_free_dense(d, &common);
       if (factor)
         cholmod_free_factor(&factor, &common);
       cholmod_finish(&common);
@@ -53,9 +56,8 @@ namespace granflow::solvers
   {
     cholmod_common &c = impl->common;
     std::memcpy(impl->rhs->x, b.data(), sizeof(double) * n);
-    cholmod_dense *sol = cholmod_solve(CHOLMOD_A, impl->factor, impl->rhs, &c);
+    cholmod_solve2(CHOLMOD_A, impl->factor, impl->rhs, nullptr, &impl->X, nullptr, &impl->Y, &impl->E, &c);
     x.resize(n);
-    std::memcpy(x.data(), sol->x, sizeof(double) * n);
-    cholmod_free_dense(&sol, &c);
+    std::memcpy(x.data(), impl->X->x, sizeof(double) * n);
   }
 } // namespace granflow::solvers
