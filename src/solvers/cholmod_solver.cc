@@ -34,10 +34,6 @@ namespace granflow::solvers
     if (A.n_rows != A.n_cols)
       throw std::invalid_argument("CholmodSolver: matrix is not square");
     cholmod_common &c = impl->common;
-    // Simplicial factor: the solve is two sparse triangular sweeps without BLAS. With the
-    // supernodal factor, half of the back-solve time went to Debian's reference BLAS (dgemv,
-    // dtrsv) on these 2D operators (callgrind, silo of Table 2).
-    c.supernodal = CHOLMOD_SIMPLICIAL;
     // CSR of a symmetric matrix is its CSC; stype = 1 reads the upper triangle only.
     cholmod_sparse *M = cholmod_allocate_sparse(n, n, A.value.size(), 1, 1, 1, CHOLMOD_REAL, &c);
     std::memcpy(M->p, A.row_start.data(), sizeof(int) * (n + 1));
