@@ -168,66 +168,48 @@ namespace granflow::dp
             }
         }
 
+      // l += int_{boundary} t(x, n) . v for a traction t on the named boundary.
+      const auto add_traction = [&](const std::string &name, const unsigned int n_q, const auto &t) {
+        const QGauss<dim - 1>    face_quadrature(n_q);
+        FEFaceValues<dim>        fvf(mapping, fe_u, face_quadrature,
+                              update_values | update_normal_vectors | update_JxW_values |
+                                update_quadrature_points);
+        const types::boundary_id id = mesh.id(name, prm.case_file);
+        for (const auto &cell : dof_u.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
+              {
+                fvf.reinit(cell, f);
+                cell->get_dof_indices(dofs);
+                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                  {
+                    const Tensor<1, dim> traction = t(fvf.quadrature_point(q), fvf.normal_vector(q));
+                    for (unsigned int i = 0; i < n; ++i)
+                      load[dofs[i]] += traction * fvf[velocity].value(i, q) * fvf.JxW(q);
+                  }
+              }
+      };
+
       // Neumann boundaries (21): traction sigma_ext n = -p_ext n.
-      const auto pressures =
-        parse_named_values(prm.boundaries.external_pressure, prm.case_file,
-                           "Boundary conditions/External pressure");
-      if (!pressures.empty())
-        {
-          QGauss<dim - 1>   face_quadrature(3);
-          FEFaceValues<dim> fvf(mapping, fe_u, face_quadrature,
-                                update_values | update_normal_vectors | update_JxW_values);
-          for (const auto &[name, p_ext] : pressures)
-            {
-              const types::boundary_id id = mesh.id(name, prm.case_file);
-              for (const auto &cell : dof_u.active_cell_iterators())
-                for (const unsigned int f : cell->face_indices())
-                  if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
-                    {
-                      fvf.reinit(cell, f);
-                      cell->get_dof_indices(dofs);
-                      for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                        for (unsigned int i = 0; i < n; ++i)
-                          load[dofs[i]] += -p_ext * fvf.normal_vector(q) *
-                                           fvf[velocity].value(i, q) * fvf.JxW(q);
-                    }
-            }
-        }
+      for (const auto &[name, p_ext] : parse_named_values(prm.boundaries.external_pressure,
+                                                          prm.case_file,
+                                                          "Boundary conditions/External pressure"))
+        add_traction(name, 3, [p_ext = p_ext](const Point<dim> &, const Tensor<1, dim> &normal) {
+          return -p_ext * normal;
+        });
 
       // Boundaries loaded by the traction of the analytic reference: Bagnold (6.1.3), the
       // upstream / downstream stresses of the infinite layer. In the frame of the plane,
       // sigma_tot = [[-p, s], [s, -p]] with p = (1 - y) cos a and s = (1 - y) sin a (the viscous
       // part eta u' = (sin a - mu cos a)(1 - y) plus the saturated friction mu p).
-      const auto analytic_boundaries = split_list(prm.boundaries.analytic_traction);
-      if (!analytic_boundaries.empty())
-        {
-          QGauss<dim - 1>   face_quadrature(4);
-          FEFaceValues<dim> fvf(mapping, fe_u, face_quadrature,
-                                update_values | update_normal_vectors | update_JxW_values |
-                                  update_quadrature_points);
-          const double alpha = std::atan2(e_g[0], -e_g[1]);
-          for (const std::string &name : analytic_boundaries)
-            {
-              const types::boundary_id id = mesh.id(name, prm.case_file);
-              for (const auto &cell : dof_u.active_cell_iterators())
-                for (const unsigned int f : cell->face_indices())
-                  if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
-                    {
-                      fvf.reinit(cell, f);
-                      cell->get_dof_indices(dofs);
-                      for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                        {
-                          const double y = fvf.quadrature_point(q)[1];
-                          Tensor<2, dim> sigma;
-                          sigma[0][0] = sigma[1][1] = -(1. - y) * std::cos(alpha);
-                          sigma[0][1] = sigma[1][0] = (1. - y) * std::sin(alpha);
-                          const Tensor<1, dim> t = sigma * fvf.normal_vector(q);
-                          for (unsigned int i = 0; i < n; ++i)
-                            load[dofs[i]] += t * fvf[velocity].value(i, q) * fvf.JxW(q);
-                        }
-                    }
-            }
-        }
+      const double alpha = std::atan2(e_g[0], -e_g[1]);
+      for (const std::string &name : split_list(prm.boundaries.analytic_traction))
+        add_traction(name, 4, [alpha](const Point<dim> &x, const Tensor<1, dim> &normal) {
+          Tensor<2, dim> sigma;
+          sigma[0][0] = sigma[1][1] = -(1. - x[1]) * std::cos(alpha);
+          sigma[0][1] = sigma[1][0] = (1. - x[1]) * std::sin(alpha);
+          return sigma * normal;
+        });
 
       data.A        = solvers::CsrMatrix();
       data.A.n_rows = data.A.n_cols = n_free;
