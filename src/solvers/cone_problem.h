@@ -53,7 +53,7 @@ namespace granflow::solvers
     unsigned int max_outer_iterations = 200;
     unsigned int max_inner_iterations = 300; // per fixed-point iteration: the outer loop goes on from the warm start
     /// The inner SOCQP (37) is solved to inner_tolerance_factor times the current outer residual
-    /// (never below tolerance / 10): early fixed-point iterations need no accurate inner solve.
+    /// (never below tolerance / 1000): early fixed-point iterations need no accurate inner solve.
     double        inner_tolerance_factor = 0.1;
     /// Anderson acceleration of the fixed point on s (0: plain Algorithm 1).
     unsigned int  anderson_depth = 5;

@@ -6,6 +6,7 @@
 #include <deal.II/base/tensor.h>
 
 #include "core/parameters.h"
+#include "solvers/cone_problem.h"
 
 #include <string>
 #include <vector>
@@ -52,10 +53,11 @@ namespace granflow::dp
     std::string  stress_element        = "P1d"; // P1d (constraints at quadrature points) | P1 (at nodes)
     std::string  inner_solver          = "spg"; // pg | apgd | spg
     std::string  residual              = "fischer-burmeister"; // or alart-curnier
-    double       tolerance             = 1e-6;
+    // Solver tunables default to the solver's own defaults (one place, DESIGN.md style 6).
+    double       tolerance             = solvers::ConeSolverOptions{}.tolerance;
     unsigned int max_outer_iterations  = 500;
-    unsigned int max_inner_iterations  = 300;
-    unsigned int anderson_depth        = 5;
+    unsigned int max_inner_iterations  = solvers::ConeSolverOptions{}.max_inner_iterations;
+    unsigned int anderson_depth        = solvers::ConeSolverOptions{}.anderson_depth;
     unsigned int viscosity_iterations  = 50;
     double       viscosity_tolerance   = 1e-5;
     std::string  dump_cone_problem     = ""; // file name under the output directory, empty: none
