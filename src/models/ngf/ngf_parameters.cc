@@ -1,0 +1,187 @@
+#include "models/ngf/ngf_parameters.h"
+
+#include "core/errors.h"
+
+#include <cmath>
+
+namespace granflow::ngf
+{
+  using dealii::Patterns::Bool;
+  using dealii::Patterns::Double;
+  using dealii::Patterns::Integer;
+  using dealii::Patterns::Selection;
+  using Anything = dealii::Patterns::Anything;
+
+  void
+  Parameters::declare(dealii::ParameterHandler &prm)
+  {
+    prm.add_parameter("Model", model, "Model of this case file: ngf (Henann & Kamrin 2016).",
+                      Selection("ngf"));
+    prm.add_parameter("Name", name, "Name of the case, used in summary.json.", Anything());
+
+    prm.enter_subsection("Material");
+    {
+      auto &m = material;
+      prm.add_parameter("mu_s", m.nonlocal.mu_s, "Static yield stress ratio mu_s (22), in (0, 1).",
+                        Double(0., 1.));
+      prm.add_parameter("b", m.nonlocal.b, "Rate sensitivity b of mu_loc = mu_s + b I (1), > 0.",
+                        Double(0.));
+      prm.add_parameter("A", m.nonlocal.A, "Nonlocal amplitude A of xi = A d / sqrt|mu - mu_s| (24), > 0.",
+                        Double(0.));
+      prm.add_parameter("Grain diameter", m.nonlocal.d, "Mean grain diameter d [m], > 0.", Double(0.));
+      prm.add_parameter("Grain density", m.nonlocal.rho_s, "Grain material density rho_s [kg/m^3], > 0.",
+                        Double(0.));
+      prm.add_parameter("Shear modulus", m.elastic.S, "Shear modulus S of (12) [Pa], > 0.", Double(0.));
+      prm.add_parameter("Bulk modulus", m.elastic.B, "Bulk modulus B of (12) [Pa], > 0.", Double(0.));
+      prm.add_parameter("Solid fraction", m.phi, "Solid volume fraction phi of b_0 = phi rho_s G (27), in (0, 1].",
+                        Double(0., 1.));
+      prm.add_parameter("Gravity", m.G, "Acceleration of gravity G [m/s^2], > 0.", Double(0.));
+      prm.add_parameter("Cooperativity length cap", m.nonlocal.xi_cap_over_d,
+                        "Smooth cap of xi in grain diameters (Section 4 footnote: 1000), > 0.", Double(0.));
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Geometry");
+    {
+      auto &g = geometry;
+      prm.add_parameter("Shape", g.shape,
+                        "shear column: one column of 8-node bricks, depth along z, periodic in x and y, "
+                        "driven wall at z = 0 ('wall'), fixed bottom ('bottom') (Henann 6.1, Fig. 1a).",
+                        Selection("shear column"));
+      prm.add_parameter("Depth", g.depth, "Bed depth in grain diameters (6.1: 20), > 0.", Double(0.));
+      prm.add_parameter("Element size", g.element_size,
+                        "Element size h in grain diameters (6.1: 1/3); rounded so that depth/h is an "
+                        "integer, > 0.",
+                        Double(0.));
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Loading");
+    {
+      auto &l = loading;
+      prm.add_parameter("Wall pressure", l.wall_pressure,
+                        "Dimensionless wall pressure P_wall / (phi rho_s G d) (6.1), > 0.", Double(0.));
+      prm.add_parameter("Wall speed", l.wall_speed, "Dimensionless wall speed v_wall / sqrt(G d) (6.1), > 0.",
+                        Double(0.));
+      prm.add_parameter("Wall displacement", l.wall_displacement,
+                        "Wall displacement at the end of the run, in grain diameters (6.1: 1), > 0.",
+                        Double(0.));
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Fluidity boundary conditions");
+    {
+      prm.add_parameter("Dirichlet", fluidity_bc.dirichlet,
+                        "'name: g_wall, ...': prescribed fluidity [1/s] on these boundaries (25).", Anything());
+      prm.add_parameter("Neumann", fluidity_bc.neumann,
+                        "'name: zeta, ...': prescribed grad g . n [1/(s m)] (25); every other boundary "
+                        "has zeta = 0.",
+                        Anything());
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Solver");
+    {
+      auto &s = solver;
+      prm.add_parameter("Fluidity", s.fluidity,
+                        "nonlocal: g is a nodal unknown solving (23); local: g = g_loc (not yet available).",
+                        Selection("nonlocal|local"));
+      prm.add_parameter("Tolerance", s.tolerance,
+                        "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, > 0.",
+                        Double(0.));
+      prm.add_parameter("Max Newton iterations", s.max_iterations,
+                        "Newton iterations before the increment is cut.", Integer(1, 100));
+      prm.add_parameter("First increment", s.first_increment,
+                        "Wall displacement of the first shear increment, in grain diameters, > 0.", Double(0.));
+      prm.add_parameter("Max increment", s.max_increment,
+                        "Largest wall displacement per increment, in grain diameters, > 0.", Double(0.));
+      prm.add_parameter("Increment growth", s.growth,
+                        "Factor by which the increment grows after a solve in at most 4 iterations.",
+                        Double(1.));
+    }
+    prm.leave_subsection();
+
+    prm.enter_subsection("Output");
+    {
+      prm.add_parameter("Reference", output.reference,
+                        "none, or finite difference: the 1D reduction (90) solved on a 0.01 d grid at the "
+                        "same wall speed, written beside the profile and compared in summary.json.",
+                        Selection("none|finite difference"));
+      prm.add_parameter("Write vtu", output.write_vtu, "Write solution-0000.vtu and solution.pvd.", Bool());
+    }
+    prm.leave_subsection();
+  }
+
+  void
+  Parameters::validate() const
+  {
+    const std::string &f = case_file;
+    const auto        &m = material;
+    require_positive(m.nonlocal.mu_s, f, "Material/mu_s");
+    if (m.nonlocal.mu_s >= 1.)
+      throw InputError(f, "Material/mu_s", "= " + std::to_string(m.nonlocal.mu_s) + ": expected a value in (0, 1)");
+    require_positive(m.nonlocal.b, f, "Material/b");
+    require_positive(m.nonlocal.A, f, "Material/A");
+    require_positive(m.nonlocal.d, f, "Material/Grain diameter");
+    require_positive(m.nonlocal.rho_s, f, "Material/Grain density");
+    require_positive(m.elastic.S, f, "Material/Shear modulus");
+    require_positive(m.elastic.B, f, "Material/Bulk modulus");
+    require_positive(m.phi, f, "Material/Solid fraction");
+    require_positive(m.G, f, "Material/Gravity");
+    require_positive(m.nonlocal.xi_cap_over_d, f, "Material/Cooperativity length cap");
+    require_positive(geometry.depth, f, "Geometry/Depth");
+    require_positive(geometry.element_size, f, "Geometry/Element size");
+    if (geometry.element_size > geometry.depth)
+      throw InputError(f, "Geometry/Element size", "is larger than Geometry/Depth: expected h <= depth");
+    require_positive(loading.wall_pressure, f, "Loading/Wall pressure");
+    require_positive(loading.wall_speed, f, "Loading/Wall speed");
+    require_positive(loading.wall_displacement, f, "Loading/Wall displacement");
+    require_positive(solver.tolerance, f, "Solver/Tolerance");
+    require_positive(solver.first_increment, f, "Solver/First increment");
+    require_positive(solver.max_increment, f, "Solver/Max increment");
+    if (solver.fluidity == "local")
+      throw InputError(f, "Solver/Fluidity", "= local is not implemented yet: expected nonlocal");
+    fluidity_dirichlet();
+    fluidity_neumann();
+  }
+
+  Scales
+  Parameters::scales() const
+  {
+    const auto  &m = material;
+    const double d = m.nonlocal.d;
+    Scales       s;
+    s.d          = d;
+    s.depth      = geometry.depth * d;
+    s.h          = s.depth / std::max(1., std::round(geometry.depth / geometry.element_size));
+    s.body_force = m.phi * m.nonlocal.rho_s * m.G;
+    s.P_wall     = loading.wall_pressure * s.body_force * d;
+    s.v_wall     = loading.wall_speed * std::sqrt(m.G * d);
+    s.t_end      = loading.wall_displacement * d / s.v_wall;
+    return s;
+  }
+
+  std::vector<std::pair<std::string, double>>
+  Parameters::fluidity_dirichlet() const
+  {
+    return parse_named_values(fluidity_bc.dirichlet, case_file, "Fluidity boundary conditions/Dirichlet");
+  }
+
+  std::vector<std::pair<std::string, double>>
+  Parameters::fluidity_neumann() const
+  {
+    return parse_named_values(fluidity_bc.neumann, case_file, "Fluidity boundary conditions/Neumann");
+  }
+
+  Parameters
+  load_parameters(const std::string &case_file, const std::vector<Override> &overrides)
+  {
+    Parameters               parameters;
+    dealii::ParameterHandler prm;
+    parameters.declare(prm);
+    parse_case_file(prm, case_file, overrides);
+    parameters.case_file = case_file;
+    parameters.validate();
+    return parameters;
+  }
+} // namespace granflow::ngf

@@ -1,0 +1,95 @@
+// Case-file parameters of the ngf model (Henann & Kamrin 2016): material (SI units, Section 6
+// values as defaults), geometry and loading in the paper's dimensionless groups, fluidity boundary
+// conditions, Newton and increment control, output. Converted to SI once, in Parameters::scales().
+#pragma once
+
+#include "core/parameters.h"
+#include "rheology/finite_strain.h"
+#include "rheology/nonlocal_fluidity.h"
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace granflow::ngf
+{
+  struct MaterialParameters
+  {
+    rheology::NonlocalParameters nonlocal;
+    rheology::ElasticModuli      elastic;
+    double                       phi = 0.62;  // solid volume fraction, b_0 = phi rho_s G (27)
+    double                       G   = 9.81;  // gravity [m/s^2]
+  };
+
+  struct GeometryParameters
+  {
+    std::string shape        = "shear column"; // shear column (6.1)
+    double      depth        = 20.;            // bed depth / d
+    double      element_size = 1. / 3.;        // h / d
+  };
+
+  struct LoadingParameters
+  {
+    double wall_pressure     = 6.67;  // P_wall / (phi rho_s G d)
+    double wall_speed        = 1e-3;  // v_wall / sqrt(G d)
+    double wall_displacement = 1.;    // total wall displacement / d (end of the run)
+  };
+
+  struct FluidityBoundaryParameters
+  {
+    std::string dirichlet; // "name: g_wall [1/s], ..."; all other boundaries: Neumann
+    std::string neumann;   // "name: zeta [1/(s m)], ..."; unnamed boundaries: zeta = 0
+  };
+
+  struct SolverParameters
+  {
+    std::string  fluidity          = "nonlocal"; // nonlocal | local (g = g_loc, Section 6.3 comparison)
+    double       tolerance         = 1e-8;  // normalised residuals R_u, R_g (Section 6.1)
+    unsigned int max_iterations    = 12;    // Newton iterations per increment
+    double       first_increment   = 1e-3;  // wall displacement of the first shear increment / d
+    double       max_increment     = 0.05;  // largest wall displacement per increment / d
+    double       growth            = 1.5;   // increment growth after an easy Newton solve
+  };
+
+  struct OutputParameters
+  {
+    std::string reference = "none"; // none | finite difference (the 1D reduction (90))
+    bool        write_vtu = true;
+  };
+
+  /// SI values of the dimensionless inputs.
+  struct Scales
+  {
+    double d, depth, h, P_wall, v_wall, t_end, body_force;
+  };
+
+  struct Parameters
+  {
+    std::string                case_file;
+    std::string                model = "ngf";
+    std::string                name  = "ngf";
+    MaterialParameters         material;
+    GeometryParameters         geometry;
+    LoadingParameters          loading;
+    FluidityBoundaryParameters fluidity_bc;
+    SolverParameters           solver;
+    OutputParameters           output;
+
+    void
+    declare(dealii::ParameterHandler &prm);
+    /// Checks what the patterns cannot; throws InputError naming the file and the entry.
+    void
+    validate() const;
+    Scales
+    scales() const;
+    std::vector<std::pair<std::string, double>>
+    fluidity_dirichlet() const;
+    std::vector<std::pair<std::string, double>>
+    fluidity_neumann() const;
+  };
+
+  Parameters
+  load_parameters(const std::string &case_file, const std::vector<Override> &overrides = {});
+} // namespace granflow::ngf
