@@ -4,6 +4,7 @@
 #include "core/logger.h"
 #include "core/output.h"
 #include "models/dp/dp_model.h"
+#include "models/ngf/ngf_model.h"
 
 #include <filesystem>
 #include <iostream>
@@ -18,10 +19,12 @@ namespace granflow
       return (std::filesystem::path("results") / std::filesystem::path(case_file).stem()).string();
     }
 
+    /// Reads, validates, runs and commits one case of a model whose namespace has Parameters and run().
+    template <typename ModelParameters, typename Run>
     nlohmann::json
-    run_dp(const RunRequest &request)
+    run_model(const RunRequest &request, const std::string &model_name, const Run &run)
     {
-      dp::Parameters           parameters;
+      ModelParameters          parameters;
       dealii::ParameterHandler prm;
       parameters.declare(prm);
       parse_case_file(prm, request.case_file, request.overrides);
@@ -36,10 +39,10 @@ namespace granflow
       std::ostringstream used;
       prm.print_parameters(used, dealii::ParameterHandler::Text);
       out.write_text("parameters.prm", used.str());
-      log.print("granflow: case " + request.case_file + " (model dp) -> " + dir + "\n");
+      log.print("granflow: case " + request.case_file + " (model " + model_name + ") -> " + dir + "\n");
       try
         {
-          nlohmann::json summary = dp::run(parameters, out, log).summary;
+          nlohmann::json summary = run(parameters, out, log).summary;
           out.commit();
           summary["output_directory"] = out.target();
           return summary;
@@ -62,7 +65,14 @@ namespace granflow
          dp::Parameters p;
          p.declare(prm);
        },
-       run_dp}};
+       [](const RunRequest &r) { return run_model<dp::Parameters>(r, "dp", dp::run); }},
+      {"ngf",
+       "nonlocal granular fluidity, finite-deformation elasto-viscoplasticity (Henann & Kamrin 2016)",
+       [](dealii::ParameterHandler &prm) {
+         ngf::Parameters p;
+         p.declare(prm);
+       },
+       [](const RunRequest &r) { return run_model<ngf::Parameters>(r, "ngf", ngf::run); }}};
     return list;
   }
 

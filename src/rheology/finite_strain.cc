@@ -14,6 +14,19 @@ namespace granflow::rheology
     Eigen
     eigen(const SymTensor2 &A)
     {
+      // deal.II's Jacobi iteration reports non-convergence on an already diagonal tensor (e.g. the
+      // zero plastic increment of an elastic step), so diagonal tensors take the trivial path.
+      if (A[0][1] == 0. && A[0][2] == 0. && A[1][2] == 0.)
+        {
+          Eigen e;
+          for (unsigned int a = 0; a < 3; ++a)
+            {
+              e[a].first            = A[a][a];
+              e[a].second           = dealii::Tensor<1, 3>();
+              e[a].second[a]        = 1.;
+            }
+          return e;
+        }
       return dealii::eigenvectors(A, SymmetricTensorEigenvectorMethod::jacobi);
     }
 

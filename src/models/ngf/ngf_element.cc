@@ -1,6 +1,7 @@
 #include "models/ngf/ngf_element.h"
 
 #include <cmath>
+#include <limits>
 
 namespace granflow::ngf
 {
@@ -41,7 +42,13 @@ namespace granflow::ngf
             F += dealii::outer_product(in.u[a], shape.dN_dX[q][a]);
             g += shape.N[q][a] * in.g[a];
           }
-        const double  J     = dealii::determinant(F);
+        const double J = dealii::determinant(F);
+        if (!(J > 0.) || !(J0 > 0.) || !std::isfinite(g))
+          {
+            // an inverted or non-finite iterate: report a non-finite residual so the driver cuts the step
+            out.residual = std::numeric_limits<double>::quiet_NaN();
+            return;
+          }
         const Tensor2 F_bar = std::cbrt(J0 / J) * F;
         const auto   &pt = out.points[q] = rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material,
                                                                       with_jacobian);

@@ -46,10 +46,10 @@ namespace granflow::ngf
   struct SolverParameters
   {
     std::string  fluidity          = "nonlocal"; // nonlocal | local (g = g_loc, Section 6.3 comparison)
-    double       tolerance         = 1e-8;  // normalised residuals R_u, R_g (Section 6.1)
+    double       tolerance         = 1e-6;  // normalised residuals R_u, R_g (Section 6.1)
     unsigned int max_iterations    = 12;    // Newton iterations per increment
-    double       first_increment   = 1e-3;  // wall displacement of the first shear increment / d
-    double       max_increment     = 0.05;  // largest wall displacement per increment / d
+    double       first_increment   = 1e-5;  // wall displacement of the first shear increment / d
+    double       max_increment     = 0.01;  // largest wall displacement per increment / d
     double       growth            = 1.5;   // increment growth after an easy Newton solve
   };
 
