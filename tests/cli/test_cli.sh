@@ -64,5 +64,36 @@ check not-converged 3 "written to" "$GRANFLOW" run "$case_file" --output nc --qu
 if [ -s nc/summary.json ]; then echo "ok   not-converged keeps summary"; passes=$((passes + 1));
 else echo "FAIL not-converged summary missing"; failures=$((failures + 1)); fi
 
+# ngf (Henann & Kamrin 2016): bad material values and fluidity boundaries (issue #3 h).
+ngf_case="$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm"
+check ngf-print-parameters 0 "set mu_s" "$GRANFLOW" print-parameters ngf
+ngf_bad() { check "ngf-$1" 2 "$2" "$GRANFLOW" run "$ngf_case" --output keep --quiet "${@:3}"; }
+ngf_bad shear-modulus-zero "Material/Shear modulus" --set "Material/Shear modulus=0"
+ngf_bad shear-modulus-negative "Shear modulus" --set "Material/Shear modulus=-1e6"
+ngf_bad bulk-modulus-zero "Material/Bulk modulus" --set "Material/Bulk modulus=0"
+ngf_bad bulk-modulus-negative "Bulk modulus" --set "Material/Bulk modulus=-1"
+ngf_bad d-zero "Material/Grain diameter" --set "Material/Grain diameter=0"
+ngf_bad d-negative "Grain diameter" --set "Material/Grain diameter=-1e-3"
+ngf_bad rho-zero "Material/Grain density" --set "Material/Grain density=0"
+ngf_bad rho-negative "Grain density" --set "Material/Grain density=-2450"
+ngf_bad A-zero "Material/A" --set "Material/A=0"
+ngf_bad A-negative "Material/A" --set "Material/A=-0.48"
+ngf_bad mu_s-zero "Material/mu_s" --set "Material/mu_s=0"
+ngf_bad mu_s-one "Material/mu_s" --set "Material/mu_s=1"
+ngf_bad mu_s-above-one "mu_s" --set "Material/mu_s=1.5"
+ngf_bad fluidity-boundary-missing "lid" --set "Fluidity boundary conditions/Dirichlet=lid: 0"
+ngf_bad fluidity-neumann-missing "side" --set "Fluidity boundary conditions/Neumann=side: 1"
+if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   ngf nothing lost"; passes=$((passes + 1));
+else echo "FAIL ngf bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi
+check ngf-run 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_out --quiet --set "Loading/Wall displacement=0.05"
+for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.csv profiles/stress.csv newton.csv history.csv; do
+  if [ -s "ngf_out/$f" ]; then echo "ok   ngf output $f"; passes=$((passes + 1));
+  else echo "FAIL ngf output $f missing"; failures=$((failures + 1)); fi
+done
+check ngf-not-converged 3 "written to" "$GRANFLOW" run "$ngf_case" --output ngf_nc --quiet \
+  --set "Solver/Max Newton iterations=1" --set "Solver/Tolerance=1e-14"
+if [ -s ngf_nc/summary.json ]; then echo "ok   ngf not-converged keeps summary"; passes=$((passes + 1));
+else echo "FAIL ngf not-converged summary missing"; failures=$((failures + 1)); fi
+
 echo "$passes passed, $failures failed"
 [ "$failures" -eq 0 ]

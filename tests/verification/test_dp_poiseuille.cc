@@ -3,6 +3,7 @@
 // profile computed here, u(y) = (Re/2)[(1 - y^2) - 2 Bi (1 - |y|)] for |y| >= Bi, u(Bi) inside.
 #include "core/output.h"
 #include "models/dp/dp_model.h"
+#include "support/csv.h"
 
 #include <gtest/gtest.h>
 
@@ -22,27 +23,7 @@ namespace
     return 0.5 * Re * ((1. - a * a) - 2. * Bi * (1. - a));
   }
 
-  /// Columns of a CSV with a header row.
-  std::vector<std::vector<double>>
-  read_csv(const std::string &file)
-  {
-    std::ifstream                    in(file);
-    std::string                      line;
-    std::vector<std::vector<double>> columns;
-    std::getline(in, line);
-    while (std::getline(in, line))
-      {
-        std::stringstream s(line);
-        std::string       cell;
-        for (std::size_t j = 0; std::getline(s, cell, ','); ++j)
-          {
-            if (columns.size() <= j)
-              columns.emplace_back();
-            columns[j].push_back(std::stod(cell));
-          }
-      }
-    return columns;
-  }
+  using granflow::test::read_csv;
 
   nlohmann::json
   run_case(const std::vector<granflow::Override> &overrides, const std::string &name)

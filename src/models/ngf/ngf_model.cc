@@ -102,20 +102,15 @@ namespace granflow::ngf
       , fe(FE_Q<dim>(1), dim, FE_Q<dim>(1), 1)
       , dof_handler(tria)
     {
-      auto resolve = [&](const std::vector<std::pair<std::string, double>> &list, const std::string &entry) {
+      // names were checked against the geometry by Parameters::validate()
+      auto resolve = [&](const std::vector<std::pair<std::string, double>> &list) {
         std::vector<std::pair<types::boundary_id, double>> r;
         for (const auto &[name, value] : list)
-          {
-            const auto it = column_boundaries.find(name);
-            if (it == column_boundaries.end())
-              throw InputError(prm.case_file, entry,
-                               "names boundary '" + name + "', which the shear column lacks: expected wall or bottom");
-            r.emplace_back(it->second, value);
-          }
+          r.emplace_back(column_boundaries.at(name), value);
         return r;
       };
-      g_dirichlet = resolve(prm.fluidity_dirichlet(), "Fluidity boundary conditions/Dirichlet");
-      g_neumann   = resolve(prm.fluidity_neumann(), "Fluidity boundary conditions/Neumann");
+      g_dirichlet = resolve(prm.fluidity_dirichlet());
+      g_neumann   = resolve(prm.fluidity_neumann());
     }
 
     void
@@ -390,6 +385,7 @@ namespace granflow::ngf
       Vector<double>          velocity(U.size()), velocity_previous(U.size());
       AffineConstraints<double> step_constraints;
       bool                    loading = true;
+      std::string             failure; // set when an increment cannot be completed
       std::vector<double>     h_disp, h_mu, h_iter, h_v1; // per increment: the history.csv columns
       while (loading || u_wall < u_end * (1. - 1e-12))
         {
@@ -411,9 +407,12 @@ namespace granflow::ngf
               if (du < 1e-6 * prm.solver.first_increment * d)
                 {
                   std::ostringstream s;
-                  s << "Newton did not converge at wall displacement " << u_wall / d
-                    << " d even with an increment of " << du / d << " d (see log.txt in " << out.target() << ")";
-                  throw ConvergenceError(s.str());
+                  s << "Newton did not converge at wall displacement " << u_wall / d << " d even with an increment of "
+                    << du / d << " d";
+                  failure = s.str();
+                  U       = U_n;
+                  assemble(0., false); // the converged state: with dt = 0 the update returns it unchanged
+                  break;
                 }
               continue;
             }
@@ -488,8 +487,13 @@ namespace granflow::ngf
       out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations", "max_v_over_v_wall"},
                     {h_disp, h_mu, h_iter, h_v1});
       out.write_csv("newton.csv", {"increment", "iteration", "R_u", "R_g"}, {inc, it, ru, rg});
-      summary["timings"] = {{"total_s", log.elapsed()}};
+      summary["timings"]   = {{"total_s", log.elapsed()}};
+      summary["converged"] = failure.empty();
+      summary["wall_displacement_over_d"] = u_wall / d;
       out.write_json("summary.json", summary);
+      if (!failure.empty())
+        throw ConvergenceError(failure + "; the last converged state (wall displacement " + std::to_string(u_wall / d) +
+                               " d) is written to " + out.target() + " (see log.txt)");
       log.print("ngf: mu_wall = " + std::to_string(mu_wall) + ", W/d = " +
                 std::to_string(summary.value("shear_band_width_over_d", 0.)) + ", " + std::to_string(increment) +
                 " increments, " + std::to_string(total_iterations) + " Newton iterations, " +

@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 
+#include <algorithm>
 #include <cmath>
 
 namespace granflow::ngf
@@ -141,8 +142,24 @@ namespace granflow::ngf
     require_positive(solver.max_increment, f, "Solver/Max increment");
     if (solver.fluidity == "local")
       throw InputError(f, "Solver/Fluidity", "= local is not implemented yet: expected nonlocal");
-    fluidity_dirichlet();
-    fluidity_neumann();
+    const auto names = boundary_names();
+    for (const auto &[entry, list] : {std::pair{"Fluidity boundary conditions/Dirichlet", fluidity_dirichlet()},
+                                      std::pair{"Fluidity boundary conditions/Neumann", fluidity_neumann()}})
+      for (const auto &item : list)
+        if (std::find(names.begin(), names.end(), item.first) == names.end())
+          {
+            std::string expected;
+            for (const auto &n : names)
+              expected += (expected.empty() ? "" : " or ") + n;
+            throw InputError(f, entry, "names boundary '" + item.first + "', which the " + geometry.shape +
+                                         " lacks: expected " + expected);
+          }
+  }
+
+  std::vector<std::string>
+  Parameters::boundary_names() const
+  {
+    return {"wall", "bottom"}; // shear column: z = 0 and z = depth
   }
 
   Scales

@@ -88,6 +88,9 @@ namespace granflow::ngf
     fluidity_dirichlet() const;
     std::vector<std::pair<std::string, double>>
     fluidity_neumann() const;
+    /// Names of the boundaries of the geometry, as case files address them.
+    std::vector<std::string>
+    boundary_names() const;
   };
 
   Parameters

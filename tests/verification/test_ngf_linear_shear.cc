@@ -1,0 +1,89 @@
+// Henann & Kamrin 2016, 6.1 (Fig. 1): linear shear flow with gravity. The shipped case file is run
+// through the library at the paper's wall speeds and wall pressures; its steady velocity profile,
+// mu_wall (from the wall reactions) and shear-band width W are compared with the finite-difference
+// solution of the 1D reduction (90) computed here on a 0.01 d grid at the same wall speed:
+// v / v_wall within 0.03 at every node, mu_wall within 1 %, W / d within 5 % (issue #3 a).
+#include "core/output.h"
+#include "models/ngf/ngf_model.h"
+#include "postprocess/nonlocal_1d.h"
+#include "support/csv.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+namespace
+{
+  using namespace granflow;
+
+  const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/henann2016/linear_shear_gravity.prm";
+
+  struct Point
+  {
+    double P_wall; // P_wall / (phi rho_s G d)
+    double v_wall; // v_wall / sqrt(G d)
+  };
+
+  class LinearShear : public ::testing::TestWithParam<Point>
+  {};
+
+  TEST_P(LinearShear, MatchesTheFiniteDifferenceSolutionOf90)
+  {
+    const Point        c = GetParam();
+    std::ostringstream name;
+    name << "ngf_linear_shear_" << c.P_wall << "_" << c.v_wall;
+    const auto parameters = ngf::load_parameters(
+      case_file, {{"Loading/Wall pressure", std::to_string(c.P_wall)},
+                  {"Loading/Wall speed", std::to_string(c.v_wall)},
+                  {"Output/Reference", "none"},
+                  {"Output/Write vtu", "false"}});
+    const std::string dir = ::testing::TempDir() + "/granflow_" + name.str();
+    std::filesystem::remove_all(dir);
+    OutputDirectory out(dir);
+    Logger          log(out.file("log.txt"), false);
+    const auto      summary = ngf::run(parameters, out, log).summary;
+    out.commit();
+
+    // The reference, from the case's own physical parameters.
+    const auto  &m = parameters.material;
+    const double d = m.nonlocal.d;
+    postprocess::LinearShearGravity1d fd;
+    fd.material = m.nonlocal;
+    fd.phi      = m.phi;
+    fd.G        = m.G;
+    fd.P_wall   = c.P_wall * m.phi * m.nonlocal.rho_s * m.G * d;
+    fd.depth    = parameters.geometry.depth * d;
+    fd.h        = 0.01 * d;
+    const auto reference = postprocess::solve_linear_shear_gravity_for_speed(fd, c.v_wall * std::sqrt(m.G * d));
+
+    const auto profile = test::read_csv(dir + "/profiles/velocity.csv");
+    ASSERT_GE(profile.size(), 2U);
+    double worst = 0.;
+    for (std::size_t i = 0; i < profile[0].size(); ++i)
+      {
+        const double z = profile[0][i] * d;
+        const double s = z / (reference.x[1] - reference.x[0]);
+        const auto   k = std::min<std::size_t>(static_cast<std::size_t>(s), reference.x.size() - 2);
+        const double t = s - k;
+        const double v = ((1. - t) * reference.v[k] + t * reference.v[k + 1]) / reference.v_wall;
+        worst          = std::max(worst, std::abs(profile[1][i] - v));
+      }
+    const double mu_wall = summary["mu_wall"];
+    const double W       = summary["shear_band_width_over_d"];
+    RecordProperty("max_velocity_difference", std::to_string(worst));
+    RecordProperty("mu_wall", std::to_string(mu_wall) + " (FD " + std::to_string(reference.mu_wall) + ")");
+    RecordProperty("W_over_d", std::to_string(W) + " (FD " + std::to_string(reference.shear_band_width / d) + ")");
+    EXPECT_LE(worst, 0.03);
+    EXPECT_NEAR(mu_wall, reference.mu_wall, 0.01 * reference.mu_wall);
+    EXPECT_NEAR(W, reference.shear_band_width / d, 0.05 * reference.shear_band_width / d);
+    // steady: at most 6 Newton iterations per increment on average (issue #3 g)
+    EXPECT_LE(summary["newton"]["iterations_per_increment"].get<double>(), 6.);
+  }
+
+  // Fig. 1b: the wall speed at P_wall = 6.67; Fig. 1d: the wall pressure at v_wall = 1e-3.
+  INSTANTIATE_TEST_SUITE_P(Speeds, LinearShear, ::testing::Values(Point{6.67, 1e-4}, Point{6.67, 1e-2}, Point{6.67, 1.}));
+  INSTANTIATE_TEST_SUITE_P(Pressures, LinearShear,
+                           ::testing::Values(Point{3.33, 1e-3}, Point{6.67, 1e-3}, Point{12.5, 1e-3}, Point{25., 1e-3},
+                                             Point{50., 1e-3}, Point{100., 1e-3}));
+} // namespace
