@@ -506,7 +506,11 @@ namespace granflow::ngf
     {
       const double d = scale.d;
       // Nodal profile along the vertical edge x = y = 0: depth z, v_x / v_wall, g.
-      std::map<double, std::pair<double, double>> by_depth;
+      struct NodeValues
+      {
+        double v = 0., g = 0., u = 0.;
+      };
+      std::map<double, NodeValues> by_depth;
       std::vector<Point<dim>> support(dof_handler.n_dofs());
       DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, support);
       for (types::global_dof_index i = 0; i < support.size(); ++i)
@@ -516,16 +520,20 @@ namespace granflow::ngf
             continue;
           auto &entry = by_depth[x[2]];
           if (dof_component[i] == 0)
-            entry.first = velocity[i] / scale.v_wall;
+            {
+              entry.v = velocity[i] / scale.v_wall;
+              entry.u = U[i] / d;
+            }
           else if (dof_component[i] == dim)
-            entry.second = U[i];
+            entry.g = U[i];
         }
-      std::vector<double> z, v, g;
-      for (const auto &[depth, vg] : by_depth)
+      std::vector<double> z, v, g, u;
+      for (const auto &[depth, node] : by_depth)
         {
           z.push_back(depth / d);
-          v.push_back(vg.first);
-          g.push_back(vg.second * std::sqrt(d / prm.material.G)); // g sqrt(d / G), dimensionless
+          v.push_back(node.v);
+          g.push_back(node.g * std::sqrt(d / prm.material.G)); // g sqrt(d / G), dimensionless
+          u.push_back(node.u);
         }
       // W: the depth where v has decayed to v_wall / e (Henann 6.1).
       double W = z.back();
@@ -537,8 +545,8 @@ namespace granflow::ngf
           }
       summary["shear_band_width_over_d"] = W;
 
-      std::vector<std::string>         header  = {"z_over_d", "v_over_v_wall", "g_sqrt_d_over_G"};
-      std::vector<std::vector<double>> columns = {z, v, g};
+      std::vector<std::string>         header  = {"z_over_d", "v_over_v_wall", "g_sqrt_d_over_G", "u_x_over_d"};
+      std::vector<std::vector<double>> columns = {z, v, g, u};
       if (prm.output.reference == "finite difference")
         {
           postprocess::LinearShearGravity1d fd;
@@ -561,7 +569,7 @@ namespace granflow::ngf
               v_fd.push_back(vfd);
               worst = std::max(worst, std::abs(vfd - v[i]));
             }
-          header.push_back("v_over_v_wall_fd");
+          header.push_back("v_over_v_wall_reference");
           columns.push_back(v_fd);
           summary["reference"] = {{"method", "finite difference of (90), 0.01 d grid"},
                                   {"mu_wall", profile.mu_wall},
