@@ -8,116 +8,250 @@ namespace granflow::ngf
   using dealii::Tensor;
   using rheology::Tensor2;
 
+  namespace
+  {
+    /// F and, per displacement-type dof 4 a + c, dF/dU and G = Grad(dx) at one point.
+    struct PointKinematics
+    {
+      Tensor2              F;
+      std::vector<Tensor2> dF, G; // indexed by element dof; entries of fluidity dofs stay zero
+      double               r = 0.;         // current radius (quad)
+      Tensor<1, 3>         grad_theta, grad_u_r; // (quad)
+    };
+
+    void
+    compute_kinematics(const Kinematics kinematics, const std::vector<double> &N,
+                       const std::vector<Tensor<1, 3>> &dN, const double R, const ElementInput &in,
+                       const bool with_modes, PointKinematics &k)
+    {
+      const unsigned int n = N.size();
+      k.F                  = dealii::unit_symmetric_tensor<3>();
+      if (with_modes)
+        {
+          k.dF.assign(4 * n, Tensor2());
+          k.G.assign(4 * n, Tensor2());
+        }
+      if (kinematics == Kinematics::brick)
+        {
+          for (unsigned int a = 0; a < n; ++a)
+            k.F += dealii::outer_product(in.u[a], dN[a]);
+          if (with_modes)
+            for (unsigned int a = 0; a < n; ++a)
+              for (unsigned int c = 0; c < 3; ++c)
+                {
+                  k.dF[4 * a + c][c] = dN[a];
+                  k.G[4 * a + c]     = k.dF[4 * a + c];
+                }
+          return;
+        }
+      // Generalized axisymmetric with twist: rows (r, phi, z), columns (R, Theta, Z).
+      double       u_r = 0.;
+      Tensor<1, 3> grad_u_z;
+      k.grad_u_r = k.grad_theta = Tensor<1, 3>();
+      for (unsigned int a = 0; a < n; ++a)
+        {
+          u_r += N[a] * in.u[a][0];
+          k.grad_u_r += in.u[a][0] * dN[a];
+          grad_u_z += in.u[a][1] * dN[a];
+          k.grad_theta += in.u[a][2] * dN[a];
+        }
+      const double r = k.r = R + u_r;
+      const Tensor<1, 3> &ur = k.grad_u_r, &th = k.grad_theta;
+      k.F[0][0] = 1. + ur[0], k.F[0][1] = 0., k.F[0][2] = ur[2];
+      k.F[1][0] = r * th[0], k.F[1][1] = r / R, k.F[1][2] = r * th[2];
+      k.F[2][0] = grad_u_z[0], k.F[2][1] = 0., k.F[2][2] = 1. + grad_u_z[2];
+      if (!with_modes)
+        return;
+      for (unsigned int a = 0; a < n; ++a)
+        {
+          // u_r: dx = N e_r, and e_r turns with the current theta field
+          Tensor2 &Fr = k.dF[4 * a];
+          Fr[0][0] = dN[a][0], Fr[0][2] = dN[a][2];
+          Fr[1][0] = N[a] * th[0], Fr[1][1] = N[a] / R, Fr[1][2] = N[a] * th[2];
+          k.G[4 * a] = Fr;
+          // u_z: dx = N e_z
+          Tensor2 &Fz = k.dF[4 * a + 1];
+          Fz[2][0] = dN[a][0], Fz[2][2] = dN[a][2];
+          k.G[4 * a + 1] = Fz;
+          // theta: F changes in its phi row only, but dx = N r e_phi also turns the frame
+          Tensor2 &Ft = k.dF[4 * a + 2];
+          Ft[1][0] = r * dN[a][0], Ft[1][2] = r * dN[a][2];
+          Tensor2 &Gt = k.G[4 * a + 2];
+          Gt[0][0] = -N[a] * r * th[0], Gt[0][1] = -N[a] * r / R, Gt[0][2] = -N[a] * r * th[2];
+          Gt[1][0] = dN[a][0] * r + N[a] * (1. + ur[0]);
+          Gt[1][2] = dN[a][2] * r + N[a] * ur[2];
+        }
+    }
+
+    /// d G_i / d U_j of the quad (zero for the brick): G of u_r depends on theta, G of theta on u_r and theta.
+    Tensor2
+    dG(const unsigned int i, const unsigned int j, const std::vector<double> &N,
+       const std::vector<Tensor<1, 3>> &dN, const double R, const PointKinematics &k)
+    {
+      Tensor2            d;
+      const unsigned int a = i / 4, ci = i % 4, b = j / 4, cj = j % 4;
+      if (ci == 0 && cj == 2)
+        {
+          d[1][0] = N[a] * dN[b][0];
+          d[1][2] = N[a] * dN[b][2];
+        }
+      else if (ci == 2 && cj == 0)
+        {
+          const double NN = N[a] * N[b];
+          d[0][0]         = -NN * k.grad_theta[0];
+          d[0][1]         = -NN / R;
+          d[0][2]         = -NN * k.grad_theta[2];
+          d[1][0]         = dN[a][0] * N[b] + N[a] * dN[b][0];
+          d[1][2]         = dN[a][2] * N[b] + N[a] * dN[b][2];
+        }
+      else if (ci == 2 && cj == 2)
+        {
+          d[0][0] = -N[a] * k.r * dN[b][0];
+          d[0][2] = -N[a] * k.r * dN[b][2];
+        }
+      return d;
+    }
+
+    double
+    contract(const Tensor2 &A, const Tensor2 &B)
+    {
+      return dealii::scalar_product(A, B);
+    }
+  } // namespace
+
   void
-  NonlocalBrick::evaluate(const ElementShape &shape, const ElementInput &in, const bool with_jacobian,
-                          ElementOutput &out) const
+  NonlocalElement::evaluate(const ElementShape &shape, const ElementInput &in, const bool with_jacobian,
+                            ElementOutput &out) const
   {
     const unsigned int n_nodes = in.u.size();
     const unsigned int n_dofs  = 4 * n_nodes;
     const unsigned int n_q     = shape.JxW.size();
+    const bool         axisymmetric = kinematics == Kinematics::axisymmetric;
     out.residual.reinit(n_dofs);
     if (with_jacobian)
       out.jacobian.reinit(n_dofs, n_dofs);
     out.points.resize(n_q);
 
-    const Tensor2 I = dealii::unit_symmetric_tensor<3>();
     // F-bar: the volume change is taken at the centroid, F_bar = (J_0 / J)^{1/3} F.
-    Tensor2 F0 = I;
-    for (unsigned int a = 0; a < n_nodes; ++a)
-      F0 += dealii::outer_product(in.u[a], shape.dN_dX_centroid[a]);
-    const double J0    = dealii::determinant(F0);
-    out.J_centroid     = J0;
-    const Tensor2 F0_invT = dealii::transpose(dealii::invert(F0));
-    std::vector<Tensor<1, 3>> dN0(n_nodes); // spatial gradients at the centroid
-    for (unsigned int a = 0; a < n_nodes; ++a)
-      dN0[a] = F0_invT * shape.dN_dX_centroid[a];
+    PointKinematics k0;
+    compute_kinematics(kinematics, shape.N_centroid, shape.dN_dX_centroid, shape.R_centroid, in, with_jacobian, k0);
+    const double J0 = dealii::determinant(k0.F);
+    std::vector<double> tr_dL0(n_dofs, 0.);
+    if (with_jacobian && J0 > 0.)
+      {
+        const Tensor2 F0_inv = dealii::invert(k0.F);
+        for (unsigned int i = 0; i < n_dofs; ++i)
+          if (i % 4 != 3)
+            tr_dL0[i] = dealii::trace(k0.dF[i] * F0_inv);
+      }
 
+    PointKinematics           k;
+    std::vector<Tensor2>      H(n_dofs), dL(n_dofs), CdL(n_dofs);
+    std::vector<double>       tr_dL(n_dofs);
     std::vector<Tensor<1, 3>> dN(n_nodes);
     for (unsigned int q = 0; q < n_q; ++q)
       {
-        Tensor2 F = I;
-        double  g = 0.;
+        const auto  &N  = shape.N[q];
+        const double R  = axisymmetric ? shape.R[q] : 1.;
+        const double dV = shape.JxW[q] * R; // per radian for the quad
+        compute_kinematics(kinematics, N, shape.dN_dX[q], R, in, true, k);
+        double g = 0.;
         for (unsigned int a = 0; a < n_nodes; ++a)
-          {
-            F += dealii::outer_product(in.u[a], shape.dN_dX[q][a]);
-            g += shape.N[q][a] * in.g[a];
-          }
-        const double J = dealii::determinant(F);
+          g += N[a] * in.g[a];
+        const double J = dealii::determinant(k.F);
         if (!(J > 0.) || !(J0 > 0.) || !std::isfinite(g))
           {
-            // an inverted or non-finite iterate: report a non-finite residual so the driver cuts the step
             out.residual = std::numeric_limits<double>::quiet_NaN();
             return;
           }
-        const Tensor2 F_bar = std::cbrt(J0 / J) * F;
-        const auto   &pt = out.points[q] = rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material,
-                                                                      with_jacobian);
-        const Tensor2 F_invT = dealii::transpose(dealii::invert(F));
+        const Tensor2 F_bar = std::cbrt(J0 / J) * k.F;
+        const auto   &pt    = out.points[q] =
+          rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material, with_jacobian);
+        const Tensor2 F_inv  = dealii::invert(k.F);
+        const Tensor2 F_invT = dealii::transpose(F_inv);
         Tensor<1, 3>  grad_g;
         for (unsigned int a = 0; a < n_nodes; ++a)
           {
             dN[a] = F_invT * shape.dN_dX[q][a];
             grad_g += in.g[a] * dN[a];
           }
-        const double   dv = J * shape.JxW[q];
-        const Tensor2  T  = pt.T;
-        const auto    &N  = shape.N[q];
+        const double  dv = J * dV;
+        const Tensor2 T  = pt.T;
 
-        // (35): r_u^a = int T dN^a/dx dv - int N^a b_0 dV ; R_g^a = int (grad g . dN^a/dx + N^a g_res) dv.
+        // (35): r_i = int T : H_i dv - int b_0 . dx_i dV ; R_g^a = int (grad g . grad N^a + N^a g_res) dv.
         for (unsigned int a = 0; a < n_nodes; ++a)
           {
-            const Tensor<1, 3> TdN = T * dN[a];
             for (unsigned int c = 0; c < 3; ++c)
-              out.residual[4 * a + c] += TdN[c] * dv - N[a] * in.body_force[c] * shape.JxW[q];
+              {
+                const unsigned int i = 4 * a + c;
+                H[i]                 = k.G[i] * F_inv;
+                double work          = in.body_force[c] * N[a]; // b . dx_i
+                if (axisymmetric)
+                  work = c == 0 ? in.body_force[0] * N[a] :
+                         c == 1 ? in.body_force[2] * N[a] :
+                                  in.body_force[1] * N[a] * k.r;
+                out.residual[i] += contract(T, H[i]) * dv - work * dV;
+              }
             out.residual[4 * a + 3] += (grad_g * dN[a] + N[a] * pt.g_res) * dv;
           }
         if (!with_jacobian)
           continue;
 
-        // F-bar tangent (de Souza Neto et al. 2008, (15.47)): dT_cj = C_cjel dL_el
-        // + Q_cj (tr dL_0 - tr dL), Q = (1/3) C_ijmm - (2/3) T.
-        Tensor2 Q;
+        Tensor2 Q; // F-bar (de Souza Neto et al. 2008, (15.47)): Q = (1/3) C_ijmm - (2/3) T
         for (unsigned int i = 0; i < 3; ++i)
           for (unsigned int j = 0; j < 3; ++j)
             Q[i][j] = (pt.C[i][j][0][0] + pt.C[i][j][1][1] + pt.C[i][j][2][2]) / 3. - 2. * T[i][j] / 3.;
-        const double tr_Gamma = dealii::trace(pt.dgres_dL);
+        const double  tr_Gamma = dealii::trace(pt.dgres_dL);
+        const Tensor2 Lambda   = pt.Lambda;
+        for (unsigned int j = 0; j < n_dofs; ++j)
+          if (j % 4 != 3)
+            {
+              dL[j]    = k.dF[j] * F_inv;
+              tr_dL[j] = dealii::trace(dL[j]);
+              CdL[j]   = dealii::double_contract<2, 0, 3, 1>(pt.C, dL[j]);
+            }
 
-        for (unsigned int a = 0; a < n_nodes; ++a)
+        for (unsigned int i = 0; i < n_dofs; ++i)
           {
-            // CdN[c][e][l] = sum_j dN^a_j C_cjel (66); QdN[c] = sum_j Q_cj dN^a_j
-            Tensor<3, 3> CdN;
-            for (unsigned int c = 0; c < 3; ++c)
-              for (unsigned int e = 0; e < 3; ++e)
-                for (unsigned int l = 0; l < 3; ++l)
-                  for (unsigned int j = 0; j < 3; ++j)
-                    CdN[c][e][l] += dN[a][j] * pt.C[c][j][e][l];
-            const Tensor<1, 3> QdN      = Q * dN[a];
-            const Tensor<1, 3> LambdadN = Tensor2(pt.Lambda) * dN[a];
-            const double       gdNa     = grad_g * dN[a];
-
-            for (unsigned int b = 0; b < n_nodes; ++b)
+            const unsigned int a = i / 4;
+            if (i % 4 != 3)
               {
-                const double dNadNb = dN[a] * dN[b];
-                const double gdNb   = grad_g * dN[b];
-                for (unsigned int e = 0; e < 3; ++e)
+                const double HQ = contract(H[i], Q);
+                for (unsigned int j = 0; j < n_dofs; ++j)
                   {
-                    const double bar = dN0[b][e] - dN[b][e]; // tr dL_0 - tr dL for dof (b, e)
-                    for (unsigned int c = 0; c < 3; ++c)
-                      out.jacobian(4 * a + c, 4 * b + e) += (CdN[c][e] * dN[b] + QdN[c] * bar) * dv;
-                    // d R_g / d u (84) with the F-bar terms of d g_res (85)-(86).
-                    const double geometric = -grad_g[e] * dNadNb - dN[a][e] * gdNb + gdNa * dN[b][e];
-                    double       Gamma_dN  = 0.;
-                    for (unsigned int l = 0; l < 3; ++l)
-                      Gamma_dN += pt.dgres_dL[e][l] * dN[b][l];
-                    out.jacobian(4 * a + 3, 4 * b + e) +=
-                      (geometric + N[a] * (Gamma_dN + pt.g_res * dN[b][e] + tr_Gamma * bar / 3.)) * dv;
+                    if (j % 4 == 3)
+                      {
+                        // (80)-(82): d r_u / d g
+                        out.jacobian(i, j) += contract(H[i], Lambda) * N[j / 4] * dv;
+                        continue;
+                      }
+                    double v = contract(H[i], CdL[j]) + HQ * (tr_dL0[j] - tr_dL[j]);
+                    if (axisymmetric)
+                      v += contract(T, dG(i, j, N, shape.dN_dX[q], R, k) * F_inv);
+                    out.jacobian(i, j) += v * dv;
                   }
-                // (80)-(82): d r_u / d g
-                for (unsigned int c = 0; c < 3; ++c)
-                  out.jacobian(4 * a + c, 4 * b + 3) += LambdadN[c] * N[b] * dv;
-                // (88)-(89): d R_g / d g
-                out.jacobian(4 * a + 3, 4 * b + 3) += (dNadNb + N[a] * pt.dgres_dg * N[b]) * dv;
+                // the theta equation's body-force work b_phi N r depends on u_r
+                if (axisymmetric && i % 4 == 2 && in.body_force[1] != 0.)
+                  for (unsigned int b = 0; b < n_nodes; ++b)
+                    out.jacobian(i, 4 * b) -= in.body_force[1] * N[a] * N[b] * dV;
               }
+            else
+              for (unsigned int j = 0; j < n_dofs; ++j)
+                {
+                  const unsigned int b = j / 4;
+                  if (j % 4 == 3)
+                    {
+                      // (88)-(89): d R_g / d g
+                      out.jacobian(i, j) += (dN[a] * dN[b] + N[a] * pt.dgres_dg * N[b]) * dv;
+                      continue;
+                    }
+                  // d R_g / d u (84) with the F-bar terms of d g_res (85)-(86)
+                  const double geometric =
+                    -(grad_g * (dL[j] * dN[a])) - dN[a] * (dL[j] * grad_g) + (grad_g * dN[a]) * tr_dL[j];
+                  const double reaction =
+                    contract(pt.dgres_dL, dL[j]) + pt.g_res * tr_dL[j] + tr_Gamma * (tr_dL0[j] - tr_dL[j]) / 3.;
+                  out.jacobian(i, j) += (geometric + N[a] * reaction) * dv;
+                }
           }
       }
   }

@@ -76,7 +76,7 @@ namespace granflow::ngf
       const Scales       scale;
       OutputDirectory   &out;
       Logger            &log;
-      NonlocalBrick      brick;
+      NonlocalElement    element;
 
       Triangulation<dim>        tria;
       FESystem<dim>             fe;
@@ -98,7 +98,7 @@ namespace granflow::ngf
       , scale(prm.scales())
       , out(out)
       , log(log)
-      , brick(prm.material.elastic, prm.material.nonlocal)
+      , element(Kinematics::brick, prm.material.elastic, prm.material.nonlocal)
       , fe(FE_Q<dim>(1), dim, FE_Q<dim>(1), 1)
       , dof_handler(tria)
     {
@@ -147,7 +147,7 @@ namespace granflow::ngf
       // F-bar against locking) and the centroid gradients of F-bar.
       QGauss<dim>   quadrature(2);
       FEValues<dim> values(fe, quadrature, update_values | update_gradients | update_JxW_values);
-      FEValues<dim> centroid(fe, Quadrature<dim>(Point<dim>(0.5, 0.5, 0.5)), update_gradients);
+      FEValues<dim> centroid(fe, Quadrature<dim>(Point<dim>(0.5, 0.5, 0.5)), update_values | update_gradients);
       const FiniteElement<dim> &scalar = fe.base_element(1);
       shapes.resize(tria.n_active_cells());
       for (const auto &cell : dof_handler.active_cell_iterators())
@@ -158,6 +158,7 @@ namespace granflow::ngf
           s.N.assign(quadrature.size(), std::vector<double>(scalar.n_dofs_per_cell()));
           s.dN_dX.assign(quadrature.size(), std::vector<Tensor<1, dim>>(scalar.n_dofs_per_cell()));
           s.dN_dX_centroid.resize(scalar.n_dofs_per_cell());
+          s.N_centroid.resize(scalar.n_dofs_per_cell());
           s.JxW.resize(quadrature.size());
           for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
             {
@@ -171,6 +172,7 @@ namespace granflow::ngf
                   s.JxW[q]         = values.JxW(q);
                 }
               s.dN_dX_centroid[node] = centroid.shape_grad_component(i, 0, dim);
+              s.N_centroid[node]     = centroid.shape_value_component(i, 0, dim);
             }
         }
       Fp_n.assign(tria.n_active_cells(),
@@ -248,7 +250,7 @@ namespace granflow::ngf
             }
           const unsigned int c = cell->active_cell_index();
           in.Fp_n              = Fp_n[c];
-          brick.evaluate(shapes[c], in, with_jacobian, eo);
+          element.evaluate(shapes[c], in, with_jacobian, eo);
           points[c] = eo.points;
 
           for (unsigned int a = 0; a < n_nodes; ++a)
