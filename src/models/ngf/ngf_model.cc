@@ -33,10 +33,6 @@ namespace granflow::ngf
   namespace
   {
     using namespace dealii;
-    constexpr int dim = 3;
-
-    // Boundary ids of the shear column (GridGenerator colorize): z = 0 is the driven wall.
-    const std::map<std::string, types::boundary_id> column_boundaries = {{"wall", 4}, {"bottom", 5}};
 
     struct NewtonRecord
     {
@@ -44,6 +40,10 @@ namespace granflow::ngf
       double       R_u, R_g;
     };
 
+    /// One run of a geometry: dim = 3 is the shear column of bricks (Henann 6.1), dim = 2 an annulus
+    /// section of generalized-axisymmetric quads (6.2, 6.3). Nodal unknowns: (u_x, u_y, u_z, g) or
+    /// (u_r, u_z, theta, g).
+    template <int dim>
     class Problem
     {
     public:
@@ -52,12 +52,23 @@ namespace granflow::ngf
       run();
 
     private:
+      static constexpr bool column = dim == 3;
+      // boundary ids of GridGenerator::subdivided_hyper_rectangle with colorize = true
+      static constexpr types::boundary_id wall_id     = column ? 4 : 0; // the driven wall (z = 0, R = R_i)
+      static constexpr types::boundary_id outer_id    = column ? 5 : 1; // z = depth, R = R_o
+      static constexpr types::boundary_id floor_id    = 2;              // Z = 0 (annulus)
+      static constexpr types::boundary_id top_id      = 3;              // Z = H (annulus)
+      static constexpr unsigned int       twist       = 2;              // theta component (annulus)
+
+      types::boundary_id
+      boundary_id(const std::string &name) const;
       void
       make_mesh();
       void
       setup_system();
-      /// Periodicity, the wall and bottom displacements at wall displacement `u_wall`, and the fluidity
-      /// Dirichlet values; `homogeneous` gives the constraints of the Newton corrections.
+      /// Periodicity, the Dirichlet conditions of the geometry at wall displacement `u_wall` (an arc
+      /// length for the annulus) and the fluidity Dirichlet values; `homogeneous` gives the
+      /// constraints of the Newton corrections.
       void
       make_constraints(AffineConstraints<double> &c, double u_wall, bool homogeneous) const;
       /// Assembles r (constrained rows zeroed) and, if asked, J; returns the normalised (R_u, R_g).
@@ -65,18 +76,22 @@ namespace granflow::ngf
       assemble(double dt, bool with_jacobian);
       bool
       newton(double dt, unsigned int increment, unsigned int &iterations);
+      /// mu_wall from the reactions where the wall motion is prescribed (Henann 6.1, 6.2).
       double
       wall_stress_ratio() const;
+      /// Nodal velocity (v_x, v_y, v_z, dg/dt) or (v_r, v_z, v_theta = r dtheta/dt, dg/dt).
+      Vector<double>
+      velocity(double dt) const;
       void
       postprocess(nlohmann::json &summary, const Vector<double> &velocity);
       void
       write_vtu(const Vector<double> &velocity);
 
-      const Parameters  &prm;
-      const Scales       scale;
-      OutputDirectory   &out;
-      Logger            &log;
-      NonlocalElement    element;
+      const Parameters &prm;
+      const Scales      scale;
+      OutputDirectory  &out;
+      Logger           &log;
+      NonlocalElement   element;
 
       Triangulation<dim>        tria;
       FESystem<dim>             fe;
@@ -85,56 +100,63 @@ namespace granflow::ngf
       SparsityPattern           sparsity;
       SparseMatrix<double>      jacobian;
       Vector<double>            U, U_n, residual, unconstrained_residual;
-      std::vector<ElementShape> shapes;                    // per cell
-      std::vector<std::vector<rheology::Tensor2>> Fp_n;    // per cell, per quadrature point
+      std::vector<ElementShape> shapes;                 // per cell
+      std::vector<std::vector<rheology::Tensor2>> Fp_n; // per cell, per quadrature point
       std::vector<std::vector<rheology::NonlocalPointUpdate>> points; // last evaluated state
       std::vector<std::pair<types::boundary_id, double>> g_dirichlet, g_neumann;
       std::vector<NewtonRecord> newton_log;
-      std::vector<unsigned int> dof_component; // 0-2: u_x, u_y, u_z; 3: g
+      std::vector<unsigned int> dof_component; // 0-2 displacement-type, 3: g
+      std::vector<Point<dim>>   dof_point;     // reference position of each dof
     };
 
-    Problem::Problem(const Parameters &prm, OutputDirectory &out, Logger &log)
+    template <int dim>
+    Problem<dim>::Problem(const Parameters &prm, OutputDirectory &out, Logger &log)
       : prm(prm)
       , scale(prm.scales())
       , out(out)
       , log(log)
-      , element(Kinematics::brick, prm.material.elastic, prm.material.nonlocal)
-      , fe(FE_Q<dim>(1), dim, FE_Q<dim>(1), 1)
+      , element(column ? Kinematics::brick : Kinematics::axisymmetric, prm.material.elastic, prm.material.nonlocal)
+      , fe(FE_Q<dim>(1), 4)
       , dof_handler(tria)
     {
       // names were checked against the geometry by Parameters::validate()
-      auto resolve = [&](const std::vector<std::pair<std::string, double>> &list) {
-        std::vector<std::pair<types::boundary_id, double>> r;
-        for (const auto &[name, value] : list)
-          r.emplace_back(column_boundaries.at(name), value);
-        return r;
-      };
-      g_dirichlet = resolve(prm.fluidity_dirichlet());
-      g_neumann   = resolve(prm.fluidity_neumann());
+      for (const auto &[name, value] : prm.fluidity_dirichlet())
+        g_dirichlet.emplace_back(boundary_id(name), value);
+      for (const auto &[name, value] : prm.fluidity_neumann())
+        g_neumann.emplace_back(boundary_id(name), value);
     }
 
-    void
-    Problem::make_mesh()
+    template <int dim>
+    types::boundary_id
+    Problem<dim>::boundary_id(const std::string &name) const
     {
-      const unsigned int n = static_cast<unsigned int>(std::lround(scale.depth / scale.h));
-      GridGenerator::subdivided_hyper_rectangle(tria, {1U, 1U, n}, Point<dim>(0., 0., 0.),
-                                                Point<dim>(scale.h, scale.h, scale.depth), true);
+      const std::map<std::string, types::boundary_id> ids =
+        column ? std::map<std::string, types::boundary_id>{{"wall", wall_id}, {"bottom", outer_id}} :
+                 std::map<std::string, types::boundary_id>{
+                   {"inner wall", wall_id}, {"outer wall", outer_id}, {"bottom", floor_id}, {"top", top_id}};
+      return ids.at(name);
     }
 
+    template <int dim>
     void
-    Problem::setup_system()
+    Problem<dim>::make_mesh()
+    {
+      if constexpr (dim == 3)
+        GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_2, scale.n_2, scale.n_1}, Point<3>(0., 0., 0.),
+                                                  Point<3>(scale.h, scale.h, scale.depth), true);
+      else
+        GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_1, scale.n_2}, Point<2>(scale.R_i, 0.),
+                                                  Point<2>(scale.R_o, scale.H), true);
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::setup_system()
     {
       dof_handler.distribute_dofs(fe);
-      make_constraints(newton_constraints, 0., true);
-      DynamicSparsityPattern dsp(dof_handler.n_dofs());
-      DoFTools::make_sparsity_pattern(dof_handler, dsp, newton_constraints, false);
-      sparsity.copy_from(dsp);
-      jacobian.reinit(sparsity);
-      U.reinit(dof_handler.n_dofs());
-      U_n.reinit(dof_handler.n_dofs());
-      residual.reinit(dof_handler.n_dofs());
-      unconstrained_residual.reinit(dof_handler.n_dofs());
       dof_component.resize(dof_handler.n_dofs());
+      dof_point.resize(dof_handler.n_dofs());
+      DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, dof_point);
       std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
       for (const auto &cell : dof_handler.active_cell_iterators())
         {
@@ -142,79 +164,119 @@ namespace granflow::ngf
           for (unsigned int i = 0; i < dofs.size(); ++i)
             dof_component[dofs[i]] = fe.system_to_component_index(i).first;
         }
+      make_constraints(newton_constraints, 0., true);
+      DynamicSparsityPattern dsp(dof_handler.n_dofs());
+      DoFTools::make_sparsity_pattern(dof_handler, dsp, newton_constraints, false);
+      sparsity.copy_from(dsp);
+      jacobian.reinit(sparsity);
+      for (auto *v : {&U, &U_n, &residual, &unconstrained_residual})
+        v->reinit(dof_handler.n_dofs());
 
-      // Reference-configuration shape data, once: Q1 with the 2x2x2 Gauss rule (full integration,
-      // F-bar against locking) and the centroid gradients of F-bar.
-      QGauss<dim>   quadrature(2);
-      FEValues<dim> values(fe, quadrature, update_values | update_gradients | update_JxW_values);
-      FEValues<dim> centroid(fe, Quadrature<dim>(Point<dim>(0.5, 0.5, 0.5)), update_values | update_gradients);
-      const FiniteElement<dim> &scalar = fe.base_element(1);
+      // Reference-configuration shape data, once: Q1 with the 2^dim Gauss rule (full integration,
+      // F-bar against locking) and the centroid values of F-bar. Gradients as 3-vectors: (X, Y, Z)
+      // for the brick, (R, Theta, Z) with a zero Theta component for the quad.
+      const FE_Q<dim> scalar(1);
+      QGauss<dim>     quadrature(2);
+      Point<dim>      middle;
+      for (unsigned int i = 0; i < dim; ++i)
+        middle[i] = 0.5;
+      FEValues<dim> values(scalar, quadrature,
+                           update_values | update_gradients | update_JxW_values | update_quadrature_points);
+      FEValues<dim> centroid(scalar, Quadrature<dim>(middle), update_values | update_gradients | update_quadrature_points);
+      auto three = [](const Tensor<1, dim> &t) {
+        return dim == 3 ? Tensor<1, 3>({t[0], t[1], t[dim - 1]}) : Tensor<1, 3>({t[0], 0., t[dim - 1]});
+      };
+      const unsigned int n_nodes = scalar.n_dofs_per_cell();
       shapes.resize(tria.n_active_cells());
-      for (const auto &cell : dof_handler.active_cell_iterators())
+      for (const auto &cell : tria.active_cell_iterators())
         {
           values.reinit(cell);
           centroid.reinit(cell);
           ElementShape &s = shapes[cell->active_cell_index()];
-          s.N.assign(quadrature.size(), std::vector<double>(scalar.n_dofs_per_cell()));
-          s.dN_dX.assign(quadrature.size(), std::vector<Tensor<1, dim>>(scalar.n_dofs_per_cell()));
-          s.dN_dX_centroid.resize(scalar.n_dofs_per_cell());
-          s.N_centroid.resize(scalar.n_dofs_per_cell());
+          s.N.assign(quadrature.size(), std::vector<double>(n_nodes));
+          s.dN_dX.assign(quadrature.size(), std::vector<Tensor<1, 3>>(n_nodes));
           s.JxW.resize(quadrature.size());
-          for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+          s.R.resize(quadrature.size());
+          s.N_centroid.resize(n_nodes);
+          s.dN_dX_centroid.resize(n_nodes);
+          for (unsigned int q = 0; q < quadrature.size(); ++q)
             {
-              const auto [component, node] = fe.system_to_component_index(i);
-              if (component != dim) // the fluidity component has the same shape functions
-                continue;
-              for (unsigned int q = 0; q < quadrature.size(); ++q)
+              s.JxW[q] = values.JxW(q);
+              s.R[q]   = values.quadrature_point(q)[0];
+              for (unsigned int a = 0; a < n_nodes; ++a)
                 {
-                  s.N[q][node]     = values.shape_value_component(i, q, dim);
-                  s.dN_dX[q][node] = values.shape_grad_component(i, q, dim);
-                  s.JxW[q]         = values.JxW(q);
+                  s.N[q][a]     = values.shape_value(a, q);
+                  s.dN_dX[q][a] = three(values.shape_grad(a, q));
                 }
-              s.dN_dX_centroid[node] = centroid.shape_grad_component(i, 0, dim);
-              s.N_centroid[node]     = centroid.shape_value_component(i, 0, dim);
             }
+          for (unsigned int a = 0; a < n_nodes; ++a)
+            {
+              s.N_centroid[a]     = centroid.shape_value(a, 0);
+              s.dN_dX_centroid[a] = three(centroid.shape_grad(a, 0));
+            }
+          s.R_centroid = centroid.quadrature_point(0)[0];
         }
       Fp_n.assign(tria.n_active_cells(),
-                  std::vector<rheology::Tensor2>(quadrature.size(), unit_symmetric_tensor<dim>()));
+                  std::vector<rheology::Tensor2>(quadrature.size(), unit_symmetric_tensor<3>()));
       points.assign(tria.n_active_cells(), std::vector<rheology::NonlocalPointUpdate>(quadrature.size()));
     }
 
+    template <int dim>
     void
-    Problem::make_constraints(AffineConstraints<double> &c, const double u_wall, const bool homogeneous) const
+    Problem<dim>::make_constraints(AffineConstraints<double> &c, const double u_wall, const bool homogeneous) const
     {
       c.clear();
-      std::vector<GridTools::PeriodicFacePair<typename DoFHandler<dim>::cell_iterator>> periodic;
-      GridTools::collect_periodic_faces(dof_handler, 0, 1, 0, periodic);
-      GridTools::collect_periodic_faces(dof_handler, 2, 3, 1, periodic);
-      DoFTools::make_periodicity_constraints<dim, dim>(periodic, c);
-
-      const FEValuesExtractors::Vector u(0);
-      const FEValuesExtractors::Scalar ux(0), uy(1), g(dim);
-      const double                     s = homogeneous ? 0. : 1.;
-      // Henann 6.1: fixed bottom; the wall moves along x and is free along z (loaded by P_wall).
-      VectorTools::interpolate_boundary_values(dof_handler, 5, Functions::ZeroFunction<dim>(dim + 1), c,
-                                               fe.component_mask(u));
-      VectorTools::interpolate_boundary_values(dof_handler, 4,
-                                               Functions::ConstantFunction<dim>(s * u_wall, dim + 1), c,
-                                               fe.component_mask(ux));
-      VectorTools::interpolate_boundary_values(dof_handler, 4, Functions::ZeroFunction<dim>(dim + 1), c,
-                                               fe.component_mask(uy));
+      const double s = homogeneous ? 0. : 1.;
+      auto fix = [&](types::boundary_id id, unsigned int component, double value) {
+        VectorTools::interpolate_boundary_values(dof_handler, id, Functions::ConstantFunction<dim>(s * value, 4), c,
+                                                 fe.component_mask(FEValuesExtractors::Scalar(component)));
+      };
+      if constexpr (dim == 3)
+        {
+          std::vector<GridTools::PeriodicFacePair<typename DoFHandler<dim>::cell_iterator>> periodic;
+          GridTools::collect_periodic_faces(dof_handler, 0, 1, 0, periodic);
+          GridTools::collect_periodic_faces(dof_handler, 2, 3, 1, periodic);
+          DoFTools::make_periodicity_constraints<dim, dim>(periodic, c);
+          // Henann 6.1: fixed bottom; the wall moves along x and is free along z (loaded by P_wall).
+          for (unsigned int k = 0; k < 3; ++k)
+            fix(outer_id, k, 0.);
+          fix(wall_id, 0, u_wall);
+          fix(wall_id, 1, 0.);
+        }
+      else
+        {
+          // 6.2 and 6.3: the inner wall turns without moving radially; the outer wall does not turn.
+          fix(wall_id, 0, 0.);
+          fix(wall_id, twist, u_wall / scale.R_i);
+          fix(outer_id, twist, 0.);
+          if (prm.geometry.shape == "annulus row")
+            {
+              // 6.2: u_z = 0 in the whole model
+              for (types::global_dof_index i = 0; i < dof_component.size(); ++i)
+                if (dof_component[i] == 1 && !c.is_constrained(i))
+                  c.add_line(i);
+            }
+          else
+            {
+              // 6.3: rough walls that the grains slide along freely in z; smooth floor (u_z = 0 only)
+              fix(outer_id, 0, 0.);
+              fix(floor_id, 1, 0.);
+            }
+        }
       for (const auto &[id, value] : g_dirichlet)
-        VectorTools::interpolate_boundary_values(dof_handler, id,
-                                                 Functions::ConstantFunction<dim>(s * value, dim + 1), c,
-                                                 fe.component_mask(g));
+        fix(id, 3, value);
       c.close();
     }
 
+    template <int dim>
     std::pair<double, double>
-    Problem::assemble(const double dt, const bool with_jacobian)
+    Problem<dim>::assemble(const double dt, const bool with_jacobian)
     {
       if (with_jacobian)
         jacobian = 0.;
       residual               = 0.;
       unconstrained_residual = 0.;
-      const unsigned int n_nodes = fe.base_element(1).n_dofs_per_cell();
+      const unsigned int n_nodes = GeometryInfo<dim>::vertices_per_cell;
       std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
       std::vector<unsigned int>            kernel_index(fe.n_dofs_per_cell());
       for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
@@ -226,16 +288,17 @@ namespace granflow::ngf
       ElementInput in;
       in.u.resize(n_nodes);
       in.g.resize(n_nodes);
-      in.dt         = dt;
-      in.body_force = Tensor<1, dim>({0., 0., scale.body_force}); // (27): gravity along +z, into the bed
-      ElementOutput          eo;
-      Vector<double>         r_local(fe.n_dofs_per_cell());
-      FullMatrix<double>     J_local(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
-      double                 force_scale = 0., fluidity_scale = 0.;
-      unsigned int           n_contributions = 0;
+      in.dt = dt;
+      // (27): gravity into the bed (+z) for the column, along -z for the annulus
+      in.body_force = Tensor<1, 3>({0., 0., column ? scale.body_force : -scale.body_force});
+      ElementOutput      eo;
+      Vector<double>     r_local(fe.n_dofs_per_cell());
+      FullMatrix<double> J_local(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
+      double             force_scale = 0., fluidity_scale = 0.;
+      unsigned int       n_contributions = 0;
 
       QGauss<dim - 1>   face_quadrature(2);
-      FEFaceValues<dim> face(fe, face_quadrature, update_values | update_JxW_values);
+      FEFaceValues<dim> face(fe, face_quadrature, update_values | update_JxW_values | update_quadrature_points);
 
       for (const auto &cell : dof_handler.active_cell_iterators())
         {
@@ -261,7 +324,6 @@ namespace granflow::ngf
               fluidity_scale += std::abs(eo.residual[4 * a + 3]);
               ++n_contributions;
             }
-
           for (unsigned int i = 0; i < dofs.size(); ++i)
             {
               r_local[i] = eo.residual[kernel_index[i]];
@@ -270,31 +332,35 @@ namespace granflow::ngf
                   J_local(i, j) = eo.jacobian(kernel_index[i], kernel_index[j]);
             }
 
-          // (35): external traction and fluidity flux, per unit reference area (the column's wall
-          // area does not change). The wall pressure P_wall acts along +z on the face z = 0.
+          // (35): external traction and fluidity flux, per unit reference area (per radian for the
+          // annulus: dA = R dZ). The shear column's wall presses along +z on z = 0; the annulus row's
+          // outer wall presses along -e_r.
           for (const unsigned int f : cell->face_indices())
             {
               if (!cell->face(f)->at_boundary())
                 continue;
-              const types::boundary_id id = cell->face(f)->boundary_id();
+              const types::boundary_id id   = cell->face(f)->boundary_id();
               double                   zeta = 0.;
               for (const auto &[bid, value] : g_neumann)
                 if (bid == id)
                   zeta = value;
-              const bool wall = id == column_boundaries.at("wall");
-              if (!wall && zeta == 0.)
+              const bool pressed = column ? id == wall_id : (id == outer_id && prm.geometry.shape == "annulus row");
+              if (!pressed && zeta == 0.)
                 continue;
               face.reinit(cell, f);
               for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                for (unsigned int i = 0; i < dofs.size(); ++i)
-                  {
-                    const unsigned int component = fe.system_to_component_index(i).first;
-                    const double       N         = face.shape_value(i, q);
-                    if (wall && component == 2)
-                      r_local[i] -= N * scale.P_wall * face.JxW(q);
-                    if (component == dim)
-                      r_local[i] -= N * zeta * face.JxW(q);
-                  }
+                {
+                  const double dA = face.JxW(q) * (column ? 1. : face.quadrature_point(q)[0]);
+                  for (unsigned int i = 0; i < dofs.size(); ++i)
+                    {
+                      const unsigned int component = fe.system_to_component_index(i).first;
+                      const double       N         = face.shape_value(i, q);
+                      if (pressed && component == (column ? 2U : 0U))
+                        r_local[i] += (column ? -1. : 1.) * N * scale.P_wall * dA;
+                      if (component == 3)
+                        r_local[i] -= N * zeta * dA;
+                    }
+                }
             }
 
           for (unsigned int i = 0; i < dofs.size(); ++i)
@@ -311,7 +377,7 @@ namespace granflow::ngf
       for (types::global_dof_index i = 0; i < residual.size(); ++i)
         if (!newton_constraints.is_constrained(i))
           {
-            double &r = dof_component[i] == dim ? r_g : r_u;
+            double &r = dof_component[i] == 3 ? r_g : r_u;
             r         = std::max(r, std::abs(residual[i]));
           }
       force_scale /= n_contributions;
@@ -319,8 +385,9 @@ namespace granflow::ngf
       return {force_scale > 0. ? r_u / force_scale : r_u, fluidity_scale > 0. ? r_g / fluidity_scale : r_g};
     }
 
+    template <int dim>
     bool
-    Problem::newton(const double dt, const unsigned int increment, unsigned int &iterations)
+    Problem<dim>::newton(const double dt, const unsigned int increment, unsigned int &iterations)
     {
       SparseDirectUMFPACK solver;
       Vector<double>      dU(U.size());
@@ -353,52 +420,79 @@ namespace granflow::ngf
         }
     }
 
+    template <int dim>
     double
-    Problem::wall_stress_ratio() const
+    Problem<dim>::wall_stress_ratio() const
     {
-      // mu_wall from the reactions where the wall velocity is prescribed (Henann 6.1): the x-force the
-      // wall exerts on the bed per unit area, over P_wall.
-      const FEValuesExtractors::Scalar ux(0);
-      const IndexSet wall_dofs = DoFTools::extract_boundary_dofs(dof_handler, fe.component_mask(ux), {4});
-      double         force     = 0.;
+      // Column: the x-force of the wall on the bed per unit area over P_wall. Annulus: the moment of the
+      // inner wall per radian, M = tau_wall R_i (R_i H), over R_i^2 H P (P_wall, or for 6.3 the mean
+      // hydrostatic pressure along the wall, phi rho_s G H / 2).
+      const unsigned int component = column ? 0 : twist;
+      const IndexSet     wall_dofs =
+        DoFTools::extract_boundary_dofs(dof_handler, fe.component_mask(FEValuesExtractors::Scalar(component)), {wall_id});
+      double reaction = 0.;
       for (const auto i : wall_dofs)
-        force += unconstrained_residual[i];
-      return force / (scale.h * scale.h) / scale.P_wall;
+        reaction += unconstrained_residual[i];
+      if (column)
+        return reaction / (scale.h * scale.h) / scale.P_wall;
+      const double pressure = prm.geometry.shape == "annulus row" ? scale.P_wall : 0.5 * scale.P_wall;
+      return reaction / (scale.R_i * scale.R_i * scale.H) / pressure;
     }
 
+    template <int dim>
+    Vector<double>
+    Problem<dim>::velocity(const double dt) const
+    {
+      Vector<double> v(U);
+      v -= U_n;
+      v /= dt;
+      if (!column)
+        for (types::global_dof_index i = 0; i < v.size(); ++i)
+          if (dof_component[i] == twist)
+            {
+              // v_theta = r dtheta/dt with r = R + u_r of the same node (dofs of a node are consecutive
+              // in component order for this single-base FESystem)
+              const types::global_dof_index radial = i - twist;
+              AssertThrow(dof_component[radial] == 0 && dof_point[radial] == dof_point[i],
+                          ExcMessage("the dofs of a node are expected to be numbered together"));
+              v[i] *= dof_point[i][0] + U[radial];
+            }
+      return v;
+    }
+
+    template <int dim>
     Results
-    Problem::run()
+    Problem<dim>::run()
     {
       make_mesh();
       setup_system();
       const double d = scale.d;
-      log.print("ngf: shear column, " + std::to_string(tria.n_active_cells()) + " bricks, h/d = " +
-                std::to_string(scale.h / d) + ", " + std::to_string(dof_handler.n_dofs()) + " dofs\n");
+      log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
+                (column ? " bricks" : " generalized-axisymmetric quads") + ", h/d = " + std::to_string(scale.h / d) +
+                ", " + std::to_string(dof_handler.n_dofs()) + " dofs\n");
       log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
                   << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u" << std::setw(12)
                   << "R_g" << '\n';
 
-      // Increment 0 loads the bed by gravity and P_wall with the wall at rest; then the wall moves at
-      // v_wall. Increments adapt to the Newton iteration count.
-      const double            u_end = prm.loading.wall_displacement * d;
-      double                  du    = prm.solver.first_increment * d;
-      double                  u_wall = 0., mu_wall = 0., mu_wall_previous = 0.;
-      unsigned int            increment = 0, total_iterations = 0, cuts = 0, max_iterations = 0;
-      Vector<double>          velocity(U.size()), velocity_previous(U.size());
+      // Increment 0 loads the body (gravity, wall pressure) with the wall at rest; then the wall moves
+      // at v_wall. Increments adapt to the Newton iteration count.
+      double                    du     = prm.solver.first_increment * d;
+      double                    u_wall = 0., mu_wall = 0., mu_wall_previous = 0.;
+      unsigned int              increment = 0, total_iterations = 0, cuts = 0, max_iterations = 0;
+      Vector<double>            rate(U.size()), v(U.size()), v_previous(U.size());
       AffineConstraints<double> step_constraints;
-      bool                    loading = true;
-      std::string             failure; // set when an increment cannot be completed
-      std::vector<double>     h_disp, h_mu, h_iter, h_v1; // per increment: the history.csv columns
-      while (loading || u_wall < u_end * (1. - 1e-12))
+      bool                      loading = true;
+      std::string               failure; // set when an increment cannot be completed
+      std::vector<double>       h_disp, h_mu, h_iter, h_vmax; // per increment: the history.csv columns
+      while (loading || u_wall < scale.u_end * (1. - 1e-12))
         {
-          const double step   = loading ? 0. : std::min(du, u_end - u_wall);
-          const double dt     = (loading ? du : step) / scale.v_wall;
-          // Predictor: continue the last increment's velocity (the steady flow is then almost exact).
+          const double step = loading ? 0. : std::min(du, scale.u_end - u_wall);
+          const double dt   = (loading ? du : step) / scale.v_wall;
+          // Predictor: continue the last increment's motion (the steady flow is then almost exact).
           U = U_n;
-          if (!loading)
-            for (unsigned int i = 0; i < U.size(); ++i)
-              if (dof_component[i] < dim)
-                U[i] += velocity[i] * dt;
+          for (types::global_dof_index i = 0; i < U.size(); ++i)
+            if (dof_component[i] < 3)
+              U[i] += rate[i] * dt;
           make_constraints(step_constraints, u_wall + step, false);
           step_constraints.distribute(U);
           unsigned int iterations = 0;
@@ -424,24 +518,22 @@ namespace granflow::ngf
               Fp_n[c][q] = points[c][q].Fp;
           if (!loading)
             {
-              velocity_previous = velocity;
-              velocity          = U;
-              velocity -= U_n;
-              velocity /= dt;
+              v_previous = v;
+              v          = velocity(dt);
+              rate       = U;
+              rate -= U_n;
+              rate /= dt;
               u_wall += step;
               mu_wall_previous = mu_wall;
               mu_wall          = wall_stress_ratio();
-            }
-          if (!loading)
-            {
+              double v_max     = 0.;
+              for (types::global_dof_index i = 0; i < v.size(); ++i)
+                if (dof_component[i] == (column ? 0U : twist))
+                  v_max = std::max(v_max, std::abs(v[i]));
               h_disp.push_back(u_wall / d);
               h_mu.push_back(mu_wall);
               h_iter.push_back(iterations);
-              double v_max = 0.;
-              for (unsigned int i = 0; i < velocity.size(); ++i)
-                if (dof_component[i] == 0)
-                  v_max = std::max(v_max, std::abs(velocity[i]));
-              h_v1.push_back(v_max / scale.v_wall);
+              h_vmax.push_back(v_max / scale.v_wall);
             }
           U_n = U;
           total_iterations += iterations;
@@ -451,33 +543,47 @@ namespace granflow::ngf
           if (iterations <= 4)
             du = std::min(du * prm.solver.growth, prm.solver.max_increment * d);
           std::ostringstream p;
-          p << "increment " << increment << ": wall displacement " << u_wall / d << " d, mu_wall " << mu_wall
-            << ", " << iterations << " Newton iterations";
+          p << "increment " << increment << ": wall displacement " << u_wall / d << " d of " << scale.u_end / d
+            << ", mu_wall " << mu_wall << ", " << iterations << " Newton iterations";
           log.progress(p.str());
         }
 
       nlohmann::json summary;
       summary["case"]  = prm.name;
       summary["model"] = "ngf";
+      summary["geometry"] = prm.geometry.shape;
       summary["mesh"]  = {{"elements", tria.n_active_cells()}, {"h_over_d", scale.h / d}, {"dofs", dof_handler.n_dofs()}};
-      summary["P_wall_over_phi_rho_s_G_d"] = prm.loading.wall_pressure;
-      summary["v_wall_over_sqrt_G_d"]      = prm.loading.wall_speed;
-      summary["mu_wall"]                   = mu_wall;
-      summary["newton"] = {{"increments", increment},
+      if (column)
+        {
+          summary["P_wall_over_phi_rho_s_G_d"] = prm.loading.wall_pressure;
+          summary["v_wall_over_sqrt_G_d"]      = prm.loading.wall_speed;
+        }
+      else if (prm.geometry.shape == "annulus row")
+        {
+          summary["R_i_over_d"]                     = prm.geometry.inner_radius;
+          summary["R_i_Omega_sqrt_rho_s_over_P_wall"] = prm.loading.wall_speed;
+        }
+      else
+        {
+          summary["R_i_over_d"]               = prm.geometry.inner_radius;
+          summary["R_i_Omega_over_sqrt_G_d"]  = prm.loading.wall_speed;
+        }
+      summary["mu_wall"] = mu_wall;
+      summary["newton"]  = {{"increments", increment},
                            {"iterations", total_iterations},
                            {"iterations_per_increment", double(total_iterations) / std::max(1U, increment)},
                            {"max_iterations", max_iterations},
                            {"increment_cuts", cuts}};
-      // Steadiness over the last increment: change of mu_wall and of v / v_wall.
+      // Steadiness over the last increment: change of mu_wall and of the wall-parallel velocity.
       double dv = 0.;
-      for (unsigned int i = 0; i < velocity.size(); ++i)
-        if (dof_component[i] == 0)
-          dv = std::max(dv, std::abs(velocity[i] - velocity_previous[i]) / scale.v_wall);
+      for (types::global_dof_index i = 0; i < v.size(); ++i)
+        if (dof_component[i] == (column ? 0U : twist))
+          dv = std::max(dv, std::abs(v[i] - v_previous[i]) / scale.v_wall);
       summary["steady_state"] = {{"mu_wall_change_last_increment", std::abs(mu_wall - mu_wall_previous)},
                                  {"velocity_change_last_increment", dv}};
-      postprocess(summary, velocity);
+      postprocess(summary, v);
       if (prm.output.write_vtu)
-        write_vtu(velocity);
+        write_vtu(v);
       std::vector<double> inc, it, ru, rg;
       for (const auto &r : newton_log)
         {
@@ -487,10 +593,10 @@ namespace granflow::ngf
           rg.push_back(r.R_g);
         }
       out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations", "max_v_over_v_wall"},
-                    {h_disp, h_mu, h_iter, h_v1});
+                    {h_disp, h_mu, h_iter, h_vmax});
       out.write_csv("newton.csv", {"increment", "iteration", "R_u", "R_g"}, {inc, it, ru, rg});
-      summary["timings"]   = {{"total_s", log.elapsed()}};
-      summary["converged"] = failure.empty();
+      summary["timings"]                  = {{"total_s", log.elapsed()}};
+      summary["converged"]                = failure.empty();
       summary["wall_displacement_over_d"] = u_wall / d;
       out.write_json("summary.json", summary);
       if (!failure.empty())
@@ -503,89 +609,123 @@ namespace granflow::ngf
       return {summary};
     }
 
+    template <int dim>
     void
-    Problem::postprocess(nlohmann::json &summary, const Vector<double> &velocity)
+    Problem<dim>::postprocess(nlohmann::json &summary, const Vector<double> &v)
     {
       const double d = scale.d;
-      // Nodal profile along the vertical edge x = y = 0: depth z, v_x / v_wall, g.
+      // Nodal profile across the shear band, from the driven wall: along the edge x = y = 0 of the
+      // column (depth z), along the bottom of the annulus row, along the free surface of the annulus.
+      const unsigned int along     = column ? 2 : 0;
+      const unsigned int parallel  = column ? 0 : twist;
+      auto               on_line   = [&](const Point<dim> &x) {
+        if constexpr (dim == 3)
+          return x[0] < 1e-9 * scale.h && x[1] < 1e-9 * scale.h;
+        else
+          return prm.geometry.shape == "annulus row" ? x[1] < 1e-9 * scale.H : x[1] > scale.H * (1. - 1e-9);
+      };
       struct NodeValues
       {
         double v = 0., g = 0., u = 0.;
       };
-      std::map<double, NodeValues> by_depth;
-      std::vector<Point<dim>> support(dof_handler.n_dofs());
-      DoFTools::map_dofs_to_support_points(MappingQ1<dim>(), dof_handler, support);
-      for (types::global_dof_index i = 0; i < support.size(); ++i)
+      std::map<double, NodeValues> by_distance;
+      for (types::global_dof_index i = 0; i < dof_point.size(); ++i)
         {
-          const Point<dim> &x = support[i];
-          if (x[0] > 1e-9 * scale.h || x[1] > 1e-9 * scale.h)
+          if (!on_line(dof_point[i]))
             continue;
-          auto &entry = by_depth[x[2]];
-          if (dof_component[i] == 0)
+          auto &node = by_distance[dof_point[i][along] - (column ? 0. : scale.R_i)];
+          if (dof_component[i] == parallel)
             {
-              entry.v = velocity[i] / scale.v_wall;
-              entry.u = U[i] / d;
+              node.v = v[i] / scale.v_wall;
+              node.u = column ? U[i] / d : U[i]; // u_x / d, or theta [rad]
             }
-          else if (dof_component[i] == dim)
-            entry.g = U[i];
+          else if (dof_component[i] == 3)
+            node.g = U[i];
         }
-      std::vector<double> z, v, g, u;
-      for (const auto &[depth, node] : by_depth)
+      // g in units of sqrt(G / d) (with gravity) or sqrt(P_wall / (rho_s d^2)) (annulus row)
+      const double g_unit = prm.geometry.shape == "annulus row" ?
+                              std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d :
+                              std::sqrt(prm.material.G / d);
+      std::vector<double> x, vel, g, u;
+      for (const auto &[distance, node] : by_distance)
         {
-          z.push_back(depth / d);
-          v.push_back(node.v);
-          g.push_back(node.g * std::sqrt(d / prm.material.G)); // g sqrt(d / G), dimensionless
+          x.push_back(distance / d);
+          vel.push_back(node.v);
+          g.push_back(node.g / g_unit);
           u.push_back(node.u);
         }
-      // W: the depth where v has decayed to v_wall / e (Henann 6.1).
-      double W = z.back();
-      for (unsigned int i = 1; i < z.size(); ++i)
-        if (v[i] <= std::exp(-1.) && v[i - 1] > std::exp(-1.))
+      // W: the distance from the driven wall at which v has decayed to v_wall / e (Henann 6.1).
+      double W = x.back();
+      for (unsigned int i = 1; i < x.size(); ++i)
+        if (vel[i] <= std::exp(-1.) && vel[i - 1] > std::exp(-1.))
           {
-            W = z[i - 1] + (z[i] - z[i - 1]) * (v[i - 1] - std::exp(-1.)) / (v[i - 1] - v[i]);
+            W = x[i - 1] + (x[i] - x[i - 1]) * (vel[i - 1] - std::exp(-1.)) / (vel[i - 1] - vel[i]);
             break;
           }
       summary["shear_band_width_over_d"] = W;
 
-      std::vector<std::string>         header  = {"z_over_d", "v_over_v_wall", "g_sqrt_d_over_G", "u_x_over_d"};
-      std::vector<std::vector<double>> columns = {z, v, g, u};
+      std::vector<std::string> header = {column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
+                                         prm.geometry.shape == "annulus row" ? "g_d_sqrt_rho_s_over_P_wall" :
+                                                                               "g_sqrt_d_over_G",
+                                         column ? "u_x_over_d" : "theta"};
+      std::vector<std::vector<double>> columns = {x, vel, g, u};
       if (prm.output.reference == "finite difference")
         {
-          postprocess::LinearShearGravity1d fd;
-          fd.material         = prm.material.nonlocal;
-          fd.phi              = prm.material.phi;
-          fd.G                = prm.material.G;
-          fd.P_wall           = scale.P_wall;
-          fd.depth            = scale.depth;
-          fd.h                = 0.01 * d;
-          const auto profile  = postprocess::solve_linear_shear_gravity_for_speed(fd, scale.v_wall);
+          postprocess::Nonlocal1dProfile profile;
+          if (column)
+            {
+              postprocess::LinearShearGravity1d fd;
+              fd.material = prm.material.nonlocal;
+              fd.phi      = prm.material.phi;
+              fd.G        = prm.material.G;
+              fd.P_wall   = scale.P_wall;
+              fd.depth    = scale.depth;
+              fd.h        = 0.01 * d;
+              profile     = postprocess::solve_linear_shear_gravity_for_speed(fd, scale.v_wall);
+            }
+          else
+            {
+              postprocess::AnnularShear1d fd;
+              fd.material = prm.material.nonlocal;
+              fd.P_wall   = scale.P_wall;
+              fd.R_i      = scale.R_i;
+              fd.R_o      = scale.R_o;
+              fd.h        = 0.01 * d;
+              profile     = postprocess::solve_annular_shear_for_speed(fd, scale.v_wall);
+            }
           std::vector<double> v_fd;
           double              worst = 0.;
-          for (unsigned int i = 0; i < z.size(); ++i)
+          for (unsigned int i = 0; i < x.size(); ++i)
             {
-              // the FD grid divides the depth, so node depths fall on or between grid points
-              const double s   = z[i] * d / (profile.x[1] - profile.x[0]);
+              // the FD grid divides the domain, so node positions fall on or between grid points
+              const double s   = x[i] * d / (profile.x[1] - profile.x[0]);
               const auto   k   = std::min<std::size_t>(static_cast<std::size_t>(s), profile.x.size() - 2);
               const double t   = s - k;
               const double vfd = ((1. - t) * profile.v[k] + t * profile.v[k + 1]) / profile.v_wall;
               v_fd.push_back(vfd);
-              worst = std::max(worst, std::abs(vfd - v[i]));
+              worst = std::max(worst, std::abs(vfd - vel[i]));
             }
           header.push_back("v_over_v_wall_reference");
           columns.push_back(v_fd);
-          summary["reference"] = {{"method", "finite difference of (90), 0.01 d grid"},
+          const double mu_wall = summary["mu_wall"];
+          summary["reference"] = {{"method", column ? "finite difference of (90), 0.01 d grid" :
+                                                      "finite difference of (92), exact Couette kinematics, 0.01 d grid"},
                                   {"mu_wall", profile.mu_wall},
                                   {"shear_band_width_over_d", profile.shear_band_width / d},
                                   {"max_velocity_difference_over_v_wall", worst},
-                                  {"mu_wall_relative_difference", std::abs(summary["mu_wall"].get<double>() / profile.mu_wall - 1.)},
-                                  {"shear_band_width_relative_difference", std::abs(W / (profile.shear_band_width / d) - 1.)}};
+                                  {"mu_wall_relative_difference", std::abs(mu_wall / profile.mu_wall - 1.)},
+                                  {"shear_band_width_relative_difference",
+                                   std::abs(W / (profile.shear_band_width / d) - 1.)}};
         }
       out.write_csv("profiles/velocity.csv", header, columns);
 
-      // Quadrature-point fields averaged per brick, at the brick centres: mu, p, g_loc.
-      std::vector<double> zc, mu, p, gloc;
+      // Quadrature-point fields averaged per element, at the element centres (the line cells only).
+      std::vector<double> xc, mu, p, gloc;
       for (const auto &cell : tria.active_cell_iterators())
         {
+          const Point<dim> c = cell->center();
+          if (!column && prm.geometry.shape == "annulus" && c[1] < scale.H - scale.h)
+            continue; // the annulus: the surface row
           const auto &pts = points[cell->active_cell_index()];
           double      m = 0., pp = 0., gl = 0.;
           for (const auto &pt : pts)
@@ -594,41 +734,65 @@ namespace granflow::ngf
               pp += pt.p / pts.size();
               gl += pt.g_loc / pts.size();
             }
-          zc.push_back(cell->center()[2] / d);
+          xc.push_back((c[along] - (column ? 0. : scale.R_i)) / d);
           mu.push_back(m);
-          p.push_back(pp / (scale.body_force * d));
-          gloc.push_back(gl * std::sqrt(d / prm.material.G));
+          p.push_back(pp / scale.P_wall);
+          gloc.push_back(gl / g_unit);
         }
-      out.write_csv("profiles/stress.csv", {"z_over_d", "mu", "p_over_phi_rho_s_G_d", "g_loc_sqrt_d_over_G"},
-                    {zc, mu, p, gloc});
+      out.write_csv("profiles/stress.csv", {header[0], "mu", "p_over_P_wall", "g_loc_scaled"}, {xc, mu, p, gloc});
     }
 
+    template <int dim>
     void
-    Problem::write_vtu(const Vector<double> &velocity)
+    Problem<dim>::write_vtu(const Vector<double> &v)
     {
       DataOut<dim> data_out;
       data_out.attach_dof_handler(dof_handler);
-      std::vector<std::string> names(dim, "displacement");
-      names.push_back("g");
-      std::vector<DataComponentInterpretation::DataComponentInterpretation> kinds(
-        dim, DataComponentInterpretation::component_is_part_of_vector);
-      kinds.push_back(DataComponentInterpretation::component_is_scalar);
+      using DCI = DataComponentInterpretation::DataComponentInterpretation;
+      std::vector<std::string> names, vnames;
+      std::vector<DCI>         kinds;
+      if (column)
+        {
+          names  = {"displacement", "displacement", "displacement", "g"};
+          vnames = {"velocity", "velocity", "velocity", "dg_dt"};
+          kinds  = {DataComponentInterpretation::component_is_part_of_vector,
+                   DataComponentInterpretation::component_is_part_of_vector,
+                   DataComponentInterpretation::component_is_part_of_vector,
+                   DataComponentInterpretation::component_is_scalar};
+        }
+      else
+        {
+          names  = {"displacement", "displacement", "theta", "g"};
+          vnames = {"velocity_rz", "velocity_rz", "v_theta", "dg_dt"};
+          kinds  = {DataComponentInterpretation::component_is_part_of_vector,
+                   DataComponentInterpretation::component_is_part_of_vector,
+                   DataComponentInterpretation::component_is_scalar, DataComponentInterpretation::component_is_scalar};
+        }
       data_out.add_data_vector(U, names, DataOut<dim>::type_dof_data, kinds);
-      std::vector<std::string> vnames(dim, "velocity");
-      vnames.push_back("dg_dt");
-      data_out.add_data_vector(velocity, vnames, DataOut<dim>::type_dof_data, kinds);
-      Vector<float> mu(tria.n_active_cells()), p(tria.n_active_cells()), tau(tria.n_active_cells()),
-        gamma_dot(tria.n_active_cells());
-      for (unsigned int c = 0; c < points.size(); ++c)
+      data_out.add_data_vector(v, vnames, DataOut<dim>::type_dof_data, kinds);
+      // the wall-parallel velocity over v_wall (Fig. 6: v / (R_i Omega))
+      Vector<double> v_scaled(v.size());
+      for (types::global_dof_index i = 0; i < v.size(); ++i)
+        v_scaled[i] = v[i] / scale.v_wall;
+      std::vector<std::string> snames = {"v_over_v_wall_0", "v_over_v_wall_1", "v_over_v_wall", "g_rate_scaled"};
+      if (column)
+        snames = {"v_over_v_wall", "v_over_v_wall_y", "v_over_v_wall_z", "g_rate_scaled"};
+      data_out.add_data_vector(v_scaled, snames, DataOut<dim>::type_dof_data);
+      const unsigned int n = tria.n_active_cells();
+      Vector<float>      mu(n), p(n), p_scaled(n), tau(n), gamma_dot(n);
+      for (unsigned int c = 0; c < n; ++c)
         for (const auto &pt : points[c])
           {
             mu[c] += pt.mu / points[c].size();
             p[c] += pt.p / points[c].size();
+            p_scaled[c] += pt.p / scale.P_wall / points[c].size();
             tau[c] += pt.tau / points[c].size();
             gamma_dot[c] += pt.gamma_dot_p / points[c].size();
           }
       data_out.add_data_vector(mu, "mu");
       data_out.add_data_vector(p, "pressure");
+      // Fig. 6: p / (phi rho_s G H) for the annulus; p / P_wall otherwise
+      data_out.add_data_vector(p_scaled, column ? "p_over_P_wall" : "p_over_reference_pressure");
       data_out.add_data_vector(tau, "equivalent_shear_stress");
       data_out.add_data_vector(gamma_dot, "plastic_shear_rate");
       data_out.build_patches();
@@ -644,7 +808,12 @@ namespace granflow::ngf
   Results
   run(const Parameters &parameters, OutputDirectory &output, Logger &log)
   {
-    Problem problem(parameters, output, log);
+    if (parameters.geometry.shape == "shear column")
+      {
+        Problem<3> problem(parameters, output, log);
+        return problem.run();
+      }
+    Problem<2> problem(parameters, output, log);
     return problem.run();
   }
 } // namespace granflow::ngf

@@ -47,12 +47,21 @@ namespace granflow::ngf
       auto &g = geometry;
       prm.add_parameter("Shape", g.shape,
                         "shear column: one column of 8-node bricks, depth along z, periodic in x and y, "
-                        "driven wall at z = 0 ('wall'), fixed bottom ('bottom') (Henann 6.1, Fig. 1a).",
-                        Selection("shear column"));
-      prm.add_parameter("Depth", g.depth, "Bed depth in grain diameters (6.1: 20), > 0.", Double(0.));
+                        "driven wall at z = 0 ('wall'), fixed bottom ('bottom') (Henann 6.1, Fig. 1a); "
+                        "annulus row: one row of generalized-axisymmetric quads from R_i ('inner wall', "
+                        "rotated) to R_o ('outer wall', pressed), u_z = 0 (6.2, Fig. 3a); annulus: the "
+                        "(R, Z) section of an annular cell of height H with gravity, smooth floor ('bottom'), "
+                        "free surface ('top') (6.3, Fig. 5a).",
+                        Selection("shear column|annulus row|annulus"));
+      prm.add_parameter("Depth", g.depth, "Bed depth of the shear column in grain diameters (6.1: 20), > 0.",
+                        Double(0.));
+      prm.add_parameter("Inner radius", g.inner_radius, "Annulus inner radius R_i in grain diameters (6.2: 60), > 0.",
+                        Double(0.));
+      prm.add_parameter("Gap", g.gap, "Annulus width R_o - R_i in grain diameters (6.2: 20), > 0.", Double(0.));
+      prm.add_parameter("Height", g.height, "Annulus fill height H in grain diameters (6.3: 15), > 0.", Double(0.));
       prm.add_parameter("Element size", g.element_size,
-                        "Element size h in grain diameters (6.1: 1/3); rounded so that depth/h is an "
-                        "integer, > 0.",
+                        "Element size h in grain diameters (6.1: 1/3); rounded so that every length is an "
+                        "integer number of elements, > 0.",
                         Double(0.));
     }
     prm.leave_subsection();
@@ -61,11 +70,18 @@ namespace granflow::ngf
     {
       auto &l = loading;
       prm.add_parameter("Wall pressure", l.wall_pressure,
-                        "Dimensionless wall pressure P_wall / (phi rho_s G d) (6.1), > 0.", Double(0.));
-      prm.add_parameter("Wall speed", l.wall_speed, "Dimensionless wall speed v_wall / sqrt(G d) (6.1), > 0.",
+                        "Shear column: dimensionless wall pressure P_wall / (phi rho_s G d) (6.1), > 0.", Double(0.));
+      prm.add_parameter("Confining pressure", l.confining_pressure,
+                        "Annulus row: pressure P_wall on the outer wall [Pa] (6.2), > 0.", Double(0.));
+      prm.add_parameter("Wall speed", l.wall_speed,
+                        "Dimensionless speed of the driven wall: v_wall / sqrt(G d) (shear column, 6.1), "
+                        "R_i Omega sqrt(rho_s / P_wall) (annulus row, 6.2), R_i Omega / sqrt(G d) (annulus, 6.3); > 0.",
                         Double(0.));
       prm.add_parameter("Wall displacement", l.wall_displacement,
-                        "Wall displacement at the end of the run, in grain diameters (6.1: 1), > 0.",
+                        "Shear column: wall displacement at the end of the run, in grain diameters (6.1: 1), > 0.",
+                        Double(0.));
+      prm.add_parameter("Wall rotation", l.wall_rotation,
+                        "Annulus: rotation of the inner wall at the end of the run [degrees] (6.2, 6.3: 4), > 0.",
                         Double(0.));
     }
     prm.leave_subsection();
@@ -131,15 +147,28 @@ namespace granflow::ngf
     require_positive(m.G, f, "Material/Gravity");
     require_positive(m.nonlocal.xi_cap_over_d, f, "Material/Cooperativity length cap");
     require_positive(geometry.depth, f, "Geometry/Depth");
+    require_positive(geometry.inner_radius, f, "Geometry/Inner radius");
+    require_positive(geometry.gap, f, "Geometry/Gap");
+    require_positive(geometry.height, f, "Geometry/Height");
     require_positive(geometry.element_size, f, "Geometry/Element size");
-    if (geometry.element_size > geometry.depth)
-      throw InputError(f, "Geometry/Element size", "is larger than Geometry/Depth: expected h <= depth");
+    const double shortest = geometry.shape == "shear column" ? geometry.depth :
+                            geometry.shape == "annulus"      ? std::min(geometry.gap, geometry.height) :
+                                                               geometry.gap;
+    if (geometry.element_size > shortest)
+      throw InputError(f, "Geometry/Element size",
+                       "= " + std::to_string(geometry.element_size) + " is larger than the domain (" +
+                         std::to_string(shortest) + " grain diameters)");
     require_positive(loading.wall_pressure, f, "Loading/Wall pressure");
+    require_positive(loading.confining_pressure, f, "Loading/Confining pressure");
     require_positive(loading.wall_speed, f, "Loading/Wall speed");
     require_positive(loading.wall_displacement, f, "Loading/Wall displacement");
+    require_positive(loading.wall_rotation, f, "Loading/Wall rotation");
     require_positive(solver.tolerance, f, "Solver/Tolerance");
     require_positive(solver.first_increment, f, "Solver/First increment");
     require_positive(solver.max_increment, f, "Solver/Max increment");
+    if (output.reference == "finite difference" && geometry.shape == "annulus")
+      throw InputError(f, "Output/Reference",
+                       "= finite difference has no 1D reduction for the annulus with gravity: expected none");
     if (solver.fluidity == "local")
       throw InputError(f, "Solver/Fluidity", "= local is not implemented yet: expected nonlocal");
     const auto names = boundary_names();
@@ -159,7 +188,9 @@ namespace granflow::ngf
   std::vector<std::string>
   Parameters::boundary_names() const
   {
-    return {"wall", "bottom"}; // shear column: z = 0 and z = depth
+    if (geometry.shape == "shear column")
+      return {"wall", "bottom"}; // z = 0 and z = depth
+    return {"inner wall", "outer wall", "bottom", "top"};
   }
 
   Scales
@@ -167,14 +198,43 @@ namespace granflow::ngf
   {
     const auto  &m = material;
     const double d = m.nonlocal.d;
-    Scales       s;
+    auto         elements = [&](double length) {
+      return static_cast<unsigned int>(std::max(1., std::round(length / geometry.element_size)));
+    };
+    Scales s{};
     s.d          = d;
-    s.depth      = geometry.depth * d;
-    s.h          = s.depth / std::max(1., std::round(geometry.depth / geometry.element_size));
     s.body_force = m.phi * m.nonlocal.rho_s * m.G;
-    s.P_wall     = loading.wall_pressure * s.body_force * d;
-    s.v_wall     = loading.wall_speed * std::sqrt(m.G * d);
-    s.t_end      = loading.wall_displacement * d / s.v_wall;
+    if (geometry.shape == "shear column")
+      {
+        s.depth  = geometry.depth * d;
+        s.n_1    = elements(geometry.depth);
+        s.n_2    = 1;
+        s.h      = s.depth / s.n_1;
+        s.P_wall = loading.wall_pressure * s.body_force * d;
+        s.v_wall = loading.wall_speed * std::sqrt(m.G * d);
+        s.u_end  = loading.wall_displacement * d;
+        return s;
+      }
+    s.R_i = geometry.inner_radius * d;
+    s.R_o = s.R_i + geometry.gap * d;
+    s.n_1 = elements(geometry.gap);
+    s.h   = (s.R_o - s.R_i) / s.n_1;
+    s.u_end = s.R_i * loading.wall_rotation * M_PI / 180.;
+    if (geometry.shape == "annulus row")
+      {
+        s.H          = s.h;
+        s.n_2        = 1;
+        s.P_wall     = loading.confining_pressure;
+        s.v_wall     = loading.wall_speed * std::sqrt(s.P_wall / m.nonlocal.rho_s);
+        s.body_force = 0.; // 6.2: no gravity
+      }
+    else
+      {
+        s.n_2    = elements(geometry.height);
+        s.H      = s.n_2 * (geometry.height * d / s.n_2);
+        s.P_wall = s.body_force * s.H; // hydrostatic pressure at the floor, the scale of Fig. 6
+        s.v_wall = loading.wall_speed * std::sqrt(m.G * d);
+      }
     return s;
   }
 

@@ -25,16 +25,21 @@ namespace granflow::ngf
 
   struct GeometryParameters
   {
-    std::string shape        = "shear column"; // shear column (6.1)
-    double      depth        = 20.;            // bed depth / d
+    std::string shape        = "shear column"; // shear column (6.1) | annulus row (6.2) | annulus (6.3)
+    double      depth        = 20.;            // bed depth / d (shear column)
+    double      inner_radius = 60.;            // R_i / d (annulus)
+    double      gap          = 20.;            // (R_o - R_i) / d (annulus)
+    double      height       = 15.;            // H / d (annulus)
     double      element_size = 1. / 3.;        // h / d
   };
 
   struct LoadingParameters
   {
-    double wall_pressure     = 6.67;  // P_wall / (phi rho_s G d)
-    double wall_speed        = 1e-3;  // v_wall / sqrt(G d)
-    double wall_displacement = 1.;    // total wall displacement / d (end of the run)
+    double wall_pressure      = 6.67;  // P_wall / (phi rho_s G d) (shear column)
+    double confining_pressure = 1000.; // P_wall on the outer wall [Pa] (annulus row)
+    double wall_speed         = 1e-3;  // dimensionless speed of the driven wall, see the help text
+    double wall_displacement  = 1.;    // total wall displacement / d (shear column)
+    double wall_rotation      = 4.;    // total rotation of the inner wall [degrees] (annulus)
   };
 
   struct FluidityBoundaryParameters
@@ -59,10 +64,14 @@ namespace granflow::ngf
     bool        write_vtu = true;
   };
 
-  /// SI values of the dimensionless inputs.
+  /// SI values of the inputs. The driven wall moves by u_end at speed v_wall (an arc length
+  /// R_i Omega t for the annulus).
   struct Scales
   {
-    double d, depth, h, P_wall, v_wall, t_end, body_force;
+    double d, h, P_wall, v_wall, u_end, body_force;
+    double depth;          // shear column
+    double R_i, R_o, H;    // annulus
+    unsigned int n_1, n_2; // elements along the shear gradient (z or R) and across it
   };
 
   struct Parameters

@@ -1,0 +1,88 @@
+// Henann & Kamrin 2016, 6.2 (Fig. 3): annular shear flow without gravity on one row of
+// generalized-axisymmetric quads. The shipped case file is run through the library at the paper's
+// rotation rates and inner radii; its steady velocity profile, mu_wall (from the moment of the inner
+// wall) and shear-band width are compared with the finite-difference solution of the 1D reduction
+// (92) with the exact Couette kinematics (shear rate -r d(v/r)/dr), computed here on a 0.01 d grid at
+// the same wall speed: v / v_wall within 0.03 at every node, mu_wall within 1 %, W / d within 5 %
+// (issue #3 b).
+#include "core/output.h"
+#include "models/ngf/ngf_model.h"
+#include "postprocess/nonlocal_1d.h"
+#include "support/csv.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+namespace
+{
+  using namespace granflow;
+
+  const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/henann2016/annular_shear.prm";
+
+  struct Point
+  {
+    double R_i;  // R_i / d
+    double rate; // R_i Omega sqrt(rho_s / P_wall)
+  };
+
+  class AnnularShear : public ::testing::TestWithParam<Point>
+  {};
+
+  TEST_P(AnnularShear, MatchesTheFiniteDifferenceSolutionOf92)
+  {
+    const Point        c = GetParam();
+    std::ostringstream name;
+    name << "ngf_annular_shear_" << c.R_i << "_" << c.rate;
+    const auto parameters = ngf::load_parameters(case_file, {{"Geometry/Inner radius", std::to_string(c.R_i)},
+                                                             {"Loading/Wall speed", std::to_string(c.rate)},
+                                                             {"Output/Reference", "none"},
+                                                             {"Output/Write vtu", "false"}});
+    const std::string dir = ::testing::TempDir() + "/granflow_" + name.str();
+    std::filesystem::remove_all(dir);
+    OutputDirectory out(dir);
+    Logger          log(out.file("log.txt"), false);
+    const auto      summary = ngf::run(parameters, out, log).summary;
+    out.commit();
+
+    const auto                 &m = parameters.material;
+    const double                d = m.nonlocal.d;
+    postprocess::AnnularShear1d fd;
+    fd.material   = m.nonlocal;
+    fd.P_wall     = parameters.loading.confining_pressure;
+    fd.R_i        = c.R_i * d;
+    fd.R_o        = fd.R_i + parameters.geometry.gap * d;
+    fd.h          = 0.01 * d;
+    fd.kinematics = postprocess::CouetteKinematics::exact;
+    const auto reference =
+      postprocess::solve_annular_shear_for_speed(fd, c.rate * std::sqrt(fd.P_wall / m.nonlocal.rho_s));
+
+    const auto profile = test::read_csv(dir + "/profiles/velocity.csv");
+    ASSERT_GE(profile.size(), 2U);
+    double worst = 0.;
+    for (std::size_t i = 0; i < profile[0].size(); ++i)
+      {
+        const double s = profile[0][i] * d / (reference.x[1] - reference.x[0]);
+        const auto   k = std::min<std::size_t>(static_cast<std::size_t>(s), reference.x.size() - 2);
+        const double t = s - k;
+        const double v = ((1. - t) * reference.v[k] + t * reference.v[k + 1]) / reference.v_wall;
+        worst          = std::max(worst, std::abs(profile[1][i] - v));
+      }
+    const double mu_wall = summary["mu_wall"];
+    const double W       = summary["shear_band_width_over_d"];
+    RecordProperty("max_velocity_difference", std::to_string(worst));
+    RecordProperty("mu_wall", std::to_string(mu_wall) + " (FD " + std::to_string(reference.mu_wall) + ")");
+    RecordProperty("W_over_d", std::to_string(W) + " (FD " + std::to_string(reference.shear_band_width / d) + ")");
+    EXPECT_LE(worst, 0.03);
+    EXPECT_NEAR(mu_wall, reference.mu_wall, 0.01 * reference.mu_wall);
+    EXPECT_NEAR(W, reference.shear_band_width / d, 0.05 * reference.shear_band_width / d);
+    EXPECT_LE(summary["newton"]["iterations_per_increment"].get<double>(), 6.);
+  }
+
+  // Fig. 3b: the rotation rate at R_i / d = 60; Fig. 3d: the inner radius at rate 1e-3.
+  INSTANTIATE_TEST_SUITE_P(Rates, AnnularShear, ::testing::Values(Point{60., 1e-4}, Point{60., 1e-2}, Point{60., 1.}));
+  INSTANTIATE_TEST_SUITE_P(Radii, AnnularShear,
+                           ::testing::Values(Point{20., 1e-3}, Point{40., 1e-3}, Point{60., 1e-3}, Point{80., 1e-3},
+                                             Point{100., 1e-3}));
+} // namespace
