@@ -128,6 +128,7 @@ namespace granflow::ngf
     const unsigned int n_q     = shape.JxW.size();
     const bool         axisymmetric = kinematics == Kinematics::axisymmetric;
     out.residual.reinit(n_dofs);
+    out.magnitude.reinit(n_dofs);
     if (with_jacobian)
       out.jacobian.reinit(n_dofs, n_dofs);
     out.points.resize(n_q);
@@ -191,8 +192,11 @@ namespace granflow::ngf
                          c == 1 ? in.body_force[2] * N[a] :
                                   in.body_force[1] * N[a] * k.r;
                 out.residual[i] += contract(T, H[i]) * dv - work * dV;
+                out.magnitude[i] += std::abs(contract(T, H[i]) * dv) + std::abs(work * dV);
               }
             out.residual[4 * a + 3] += (grad_g * dN[a] + N[a] * pt.g_res) * dv;
+            out.magnitude[4 * a + 3] +=
+              (std::abs(grad_g * dN[a]) + N[a] * (std::abs(g) + pt.g_loc) / (pt.xi * pt.xi)) * dv;
           }
         if (!with_jacobian)
           continue;

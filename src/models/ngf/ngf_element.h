@@ -65,6 +65,9 @@ namespace granflow::ngf
   struct ElementOutput
   {
     dealii::Vector<double>                     residual;
+    /// per dof, the sum of the magnitudes of the residual's terms (T : H_i dv; grad g . grad N dv,
+    /// N g / xi^2 dv, N g_loc / xi^2 dv): the scale against which the residual is small
+    dealii::Vector<double>                     magnitude;
     dealii::FullMatrix<double>                 jacobian;
     std::vector<rheology::NonlocalPointUpdate> points; ///< [q] the constitutive state
   };

@@ -71,8 +71,23 @@ namespace granflow::ngf
       /// constraints of the Newton corrections.
       void
       make_constraints(AffineConstraints<double> &c, double u_wall, bool homogeneous) const;
-      /// Assembles r (constrained rows zeroed) and, if asked, J; returns the normalised (R_u, R_g).
-      std::pair<double, double>
+      /// L_inf norms of the displacement and fluidity residuals and the scales that normalise them.
+      struct ResidualNorms
+      {
+        double u = 0., g = 0., u_scale = 0., g_scale = 0.;
+        double
+        R_u(double scale) const
+        {
+          return scale > 0. ? u / scale : u;
+        }
+        double
+        R_g(double scale) const
+        {
+          return scale > 0. ? g / scale : g;
+        }
+      };
+      /// Assembles r (constrained rows zeroed) and, if asked, J.
+      ResidualNorms
       assemble(double dt, bool with_jacobian);
       bool
       newton(double dt, unsigned int increment, unsigned int &iterations);
@@ -269,7 +284,7 @@ namespace granflow::ngf
     }
 
     template <int dim>
-    std::pair<double, double>
+    typename Problem<dim>::ResidualNorms
     Problem<dim>::assemble(const double dt, const bool with_jacobian)
     {
       if (with_jacobian)
@@ -318,10 +333,10 @@ namespace granflow::ngf
 
           for (unsigned int a = 0; a < n_nodes; ++a)
             {
-              force_scale += std::sqrt(eo.residual[4 * a] * eo.residual[4 * a] +
-                                       eo.residual[4 * a + 1] * eo.residual[4 * a + 1] +
-                                       eo.residual[4 * a + 2] * eo.residual[4 * a + 2]);
-              fluidity_scale += std::abs(eo.residual[4 * a + 3]);
+              force_scale += std::sqrt(eo.magnitude[4 * a] * eo.magnitude[4 * a] +
+                                       eo.magnitude[4 * a + 1] * eo.magnitude[4 * a + 1] +
+                                       eo.magnitude[4 * a + 2] * eo.magnitude[4 * a + 2]);
+              fluidity_scale += eo.magnitude[4 * a + 3];
               ++n_contributions;
             }
           for (unsigned int i = 0; i < dofs.size(); ++i)
@@ -372,17 +387,19 @@ namespace granflow::ngf
         }
 
       // Henann 6.1: L_inf norms of the assembled residuals, each normalised by the mean element-level
-      // nodal contribution to it.
-      double r_u = 0., r_g = 0.;
+      // nodal contribution to it (here: the mean magnitude of the terms that make it up, so that a
+      // field that is zero almost everywhere, such as g at the onset of flow, is not normalised by
+      // the cancellation of its own terms).
+      ResidualNorms n;
       for (types::global_dof_index i = 0; i < residual.size(); ++i)
         if (!newton_constraints.is_constrained(i))
           {
-            double &r = dof_component[i] == 3 ? r_g : r_u;
+            double &r = dof_component[i] == 3 ? n.g : n.u;
             r         = std::max(r, std::abs(residual[i]));
           }
-      force_scale /= n_contributions;
-      fluidity_scale /= n_contributions;
-      return {force_scale > 0. ? r_u / force_scale : r_u, fluidity_scale > 0. ? r_g / fluidity_scale : r_g};
+      n.u_scale = force_scale / n_contributions;
+      n.g_scale = fluidity_scale / n_contributions;
+      return n;
     }
 
     template <int dim>
@@ -390,10 +407,11 @@ namespace granflow::ngf
     Problem<dim>::newton(const double dt, const unsigned int increment, unsigned int &iterations)
     {
       SparseDirectUMFPACK solver;
-      Vector<double>      dU(U.size());
+      Vector<double>      dU(U.size()), U_start(U.size());
       for (iterations = 0;; ++iterations)
         {
-          const auto [R_u, R_g] = assemble(dt, true);
+          const ResidualNorms n   = assemble(dt, true);
+          const double        R_u = n.R_u(n.u_scale), R_g = n.R_g(n.g_scale);
           newton_log.push_back({increment, iterations, R_u, R_g});
           log.table() << std::setw(6) << increment << std::setw(6) << iterations << std::scientific
                       << std::setprecision(3) << std::setw(12) << R_u << std::setw(12) << R_g << std::defaultfloat
@@ -416,7 +434,23 @@ namespace granflow::ngf
             }
           dU *= -1.;
           newton_constraints.distribute(dU);
-          U += dU;
+          // Backtracking on max(R_u, R_g) with this iterate's scales: the full step is taken whenever
+          // it reduces the residual (always, near the solution), so quadratic convergence is kept; it
+          // is halved where the fluidity problem is far from linear (onset of flow, free surface).
+          U_start             = U;
+          const double merit0 = std::max(R_u, R_g);
+          double       alpha  = 1.;
+          for (unsigned int k = 0;; ++k, alpha *= 0.5)
+            {
+              U = U_start;
+              U.add(alpha, dU);
+              if (k == 6)
+                break; // accept a short step; the next Jacobian is taken there
+              const ResidualNorms m     = assemble(dt, false);
+              const double        merit = std::max(m.R_u(n.u_scale), m.R_g(n.g_scale));
+              if (std::isfinite(merit) && merit <= (1. - 1e-4 * alpha) * merit0)
+                break;
+            }
         }
     }
 
