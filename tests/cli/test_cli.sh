@@ -83,6 +83,11 @@ ngf_bad mu_s-one "Material/mu_s" --set "Material/mu_s=1"
 ngf_bad mu_s-above-one "mu_s" --set "Material/mu_s=1.5"
 ngf_bad fluidity-boundary-missing "lid" --set "Fluidity boundary conditions/Dirichlet=lid: 0"
 ngf_bad fluidity-neumann-missing "side" --set "Fluidity boundary conditions/Neumann=side: 1"
+ngf_bad fluidity-boundary-of-other-geometry "inner wall" --set "Fluidity boundary conditions/Dirichlet=inner wall: 0"
+check ngf-annulus-no-fd-reference 2 "Output/Reference" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" \
+  --output keep --quiet --set "Output/Reference=finite difference"
+check ngf-element-too-large 2 "Geometry/Element size" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
+  --output keep --quiet --set "Geometry/Element size=25"
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   ngf nothing lost"; passes=$((passes + 1));
 else echo "FAIL ngf bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi
 check ngf-run 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_out --quiet --set "Loading/Wall displacement=0.05"
