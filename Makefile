@@ -1,15 +1,21 @@
 # The two commands of the README: `make run` and `make test`. Everything else is for developers.
 BUILD_DIR ?= build
+# The unit tests are also built against deal.II's debug library (libdeal.ii.g.so, with its
+# assertions): the release library silently accepts misuse such as a quad-only element on triangles.
+DEBUG_BUILD_DIR ?= build-debug
 JOBS      ?= $(shell nproc)
 DEFAULT_CASE ?= cases/daviet2016/cylinder.prm
 
-.PHONY: run test deps build configure bench format clean
+.PHONY: run test test-debug deps build build-debug configure configure-debug bench format clean
 
 run: build
 	./$(BUILD_DIR)/apps/granflow run $(DEFAULT_CASE)
 
-test: build
+test: build test-debug
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -LE long
+
+test-debug: build-debug
+	cd $(DEBUG_BUILD_DIR) && ctest --output-on-failure -j $(JOBS) -L unit
 
 deps:
 	@scripts/install-deps.sh
@@ -21,6 +27,13 @@ configure: deps
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
+configure-debug: deps
+	@if [ ! -f $(DEBUG_BUILD_DIR)/build.ninja ]; then \
+	  cmake -S . -B $(DEBUG_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DGRANFLOW_BENCHMARKS=OFF; fi
+
+build-debug: configure-debug
+	cmake --build $(DEBUG_BUILD_DIR) -j $(JOBS)
+
 bench: build
 	bench/run_all.sh $(BUILD_DIR)
 
@@ -28,4 +41,4 @@ format:
 	clang-format -i $$(git ls-files '*.cc' '*.h')
 
 clean:
-	rm -rf $(BUILD_DIR)
+	rm -rf $(BUILD_DIR) $(DEBUG_BUILD_DIR)

@@ -131,7 +131,9 @@ namespace granflow::rheology
     // Step 4 (63) with the guards of the header: p = max(p_tr, 0), g_+ = max(g, 0).
     const bool   compressed = p_tr > 0.;
     const double p          = compressed ? p_tr : 0.;
-    const bool   flowing    = g > 0.;
+    // g = 0 counts as flowing, so the tangent at the onset of flow carries d(mu)/dg (the right
+    // derivative of max(g, 0)); otherwise Newton started from g = 0 cannot see the relaxation.
+    const bool   flowing    = g >= 0.;
     const double g_plus     = flowing ? g : 0.;
     const double den        = p + S * dt * g_plus; // (56): taubar = taubar_tr p / den
     const double ratio      = den > 0. ? p / den : 1.; // taubar / taubar_tr = d taubar / d taubar_tr (79)_1

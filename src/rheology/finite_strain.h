@@ -70,7 +70,8 @@ namespace granflow::rheology
   /// Guards the paper does not need to state (its solutions have pbar > 0 and g >= 0):
   /// - pbar_tr <= 0 (tension): (56) and (22) use pbar = 0, i.e. no shear strength and g_loc = 0;
   /// - g < 0 (a Newton iterate, or a discrete undershoot): the flow rule (18) uses max(g, 0), so the
-  ///   plastic flow never reverses the stress, while g_res (85) keeps the actual g.
+  ///   plastic flow never reverses the stress, while g_res (85) keeps the actual g; at g = 0 the
+  ///   tangents are the right derivatives.
   NonlocalPointUpdate
   nonlocal_update(const Tensor2            &F,
                   const Tensor2            &Fp_n,

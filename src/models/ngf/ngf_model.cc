@@ -25,6 +25,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -395,7 +396,10 @@ namespace granflow::ngf
         if (!newton_constraints.is_constrained(i))
           {
             double &r = dof_component[i] == 3 ? n.g : n.u;
-            r         = std::max(r, std::abs(residual[i]));
+            // a NaN must propagate (std::max would drop it and report convergence)
+            r = std::isfinite(residual[i]) ? std::max(r, std::abs(residual[i])) : std::numeric_limits<double>::quiet_NaN();
+            if (std::isnan(r))
+              return {r, r, 1., 1.};
           }
       n.u_scale = force_scale / n_contributions;
       n.g_scale = fluidity_scale / n_contributions;
@@ -434,6 +438,20 @@ namespace granflow::ngf
             }
           dU *= -1.;
           newton_constraints.distribute(dU);
+          // At the residual's round-off floor (reached above the tolerance in large flowing regions,
+          // where the normalising mean is small) the full Newton correction is what tells convergence:
+          // below 1e-10 of each field it changes nothing a user could see.
+          double du = 0., u_max = 0., dg = 0., g_max = 0.;
+          for (types::global_dof_index i = 0; i < U.size(); ++i)
+            if (dof_component[i] == 3)
+              dg = std::max(dg, std::abs(dU[i])), g_max = std::max(g_max, std::abs(U[i]));
+            else
+              du = std::max(du, std::abs(dU[i])), u_max = std::max(u_max, std::abs(U[i]));
+          if (du <= 1e-10 * u_max && dg <= 1e-10 * g_max)
+            {
+              U += dU;
+              return true;
+            }
           // Backtracking on max(R_u, R_g) with this iterate's scales: the full step is taken whenever
           // it reduces the residual (always, near the solution), so quadratic convergence is kept; it
           // is halved where the fluidity problem is far from linear (onset of flow, free surface).
@@ -444,6 +462,11 @@ namespace granflow::ngf
             {
               U = U_start;
               U.add(alpha, dU);
+              // The fluidity is non-negative (Henann Section 2): iterates are projected onto g >= 0, so
+              // that an overshoot below zero does not switch the flow rule off (max(g, 0) in the update).
+              for (types::global_dof_index i = 0; i < U.size(); ++i)
+                if (dof_component[i] == 3 && U[i] < 0.)
+                  U[i] = 0.;
               if (k == 6)
                 break; // accept a short step; the next Jacobian is taken there
               const ResidualNorms m     = assemble(dt, false);

@@ -1,0 +1,93 @@
+#!/usr/bin/env bash
+# Henann & Kamrin 2016, Section 6.1 / Fig. 2c: asymptotically quadratic convergence of the (u, g)
+# Newton procedure on the shear column (P_wall/(phi rho_s G d) = 6.67, v_wall/sqrt(Gd) = 1e-3,
+# h/d = 1/3, homogeneous Neumann fluidity conditions, case-file solver settings except the Newton
+# tolerance TOL, default 1e-8: at the case's 1e-6 only increments 12-14 need >= 3 iterations; at 1e-8
+# the iterates run into the round-off floors; at 1e-9 and 1e-10 R_g cannot get below its floor and
+# the run stops with "Newton did not converge").
+# From newton.csv, the accepted attempt of each of the first ten increments that needed at least
+# 3 Newton iterations (the yielding transient; attempts that were cut and repeated are skipped)
+# gives the pairs (R^(k), R^(k+1)) of normalised L_inf residuals.
+# Writes DIR/newton_rate.csv (increment, k, R_k_u, R_k1_u, R_k_g, R_k1_g) and DIR/newton_rate.png
+# (R^(k+1) against R^(k), log-log, one colour per increment, dashed quadratic guides). Prints the
+# least-squares slope of log R^(k+1) against log R^(k) over the pairs with 0 < R^(k) < 1e-2, again
+# without the pairs whose R^(k+1) is at the round-off floor (R_u < FLOOR_U, default 1e-9; R_g <
+# FLOOR_G, default 1e-7: with Solver/Tolerance = 1e-9 the residuals stagnate and wander there), and
+# the median local order log(R^(k+1)/R^(k)) / log(R^(k)/R^(k-1)) within each increment over the
+# iterates with R^(k) < 1 and R^(k+1) above the floor (the pooled fit mixes increments whose
+# constants differ, and R_u^(k+1) is driven by R_g^(k) while R_g is large).
+#   scripts/ngf_newton_rate.sh [BUILD_DIR] [OUT_DIR] [TOL] [FLOOR_U] [FLOOR_G]
+set -euo pipefail
+build=${1:-build} out=${2:-results/henann2016} tol=${3:-1e-8} floor_u=${4:-1e-9} floor_g=${5:-1e-7}
+mkdir -p "$out"
+runs=$(mktemp -d)
+trap 'rm -rf "$runs"' EXIT
+run="$runs/newton_rate"
+"$build/apps/granflow" run cases/henann2016/linear_shear_gravity.prm --quiet --output "$run" \
+  --set "Loading/Wall pressure=6.67" --set "Loading/Wall speed=1e-3" --set "Solver/Tolerance=$tol" \
+  --set "Output/Write vtu=false" --set "Output/Reference=none" >/dev/null
+/usr/bin/python3 - "$run/newton.csv" "$out" "$floor_u" "$floor_g" "$tol" <<'PY'
+import csv, math, statistics, sys
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+rows = list(csv.DictReader(open(sys.argv[1])))
+out, floors = sys.argv[2], (float(sys.argv[3]), float(sys.argv[4]))
+attempts = {}  # increment -> its last (accepted) attempt; a new attempt starts at iteration 0
+for r in rows:
+    inc, it = int(r["increment"]), int(r["iteration"])
+    if it == 0:
+        attempts[inc] = []
+    attempts[inc].append((float(r["R_u"]), float(r["R_g"])))
+chosen = [inc for inc in sorted(attempts) if len(attempts[inc]) - 1 >= 3][:10]
+with open(f"{out}/newton_rate.csv", "w") as f:
+    f.write("increment,k,R_k_u,R_k1_u,R_k_g,R_k1_g\n")
+    for inc in chosen:
+        a = attempts[inc]
+        for k in range(len(a) - 1):
+            f.write(f"{inc},{k},{a[k][0]!r},{a[k + 1][0]!r},{a[k][1]!r},{a[k + 1][1]!r}\n")
+print(f"increments with >= 3 Newton iterations (first ten): {chosen}")
+print("iterations per chosen increment:", [len(attempts[i]) - 1 for i in chosen])
+def slope(pairs):
+    if len(pairs) < 2:
+        return float("nan"), len(pairs)
+    x = [math.log10(p[0]) for p in pairs]; y = [math.log10(p[1]) for p in pairs]
+    mx, my = sum(x) / len(x), sum(y) / len(y)
+    return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x), len(pairs)
+fig, axs = plt.subplots(1, 2, figsize=(10, 4.5))
+colors = plt.cm.tab10.colors
+for j, name in enumerate(("u", "g")):
+    ax = axs[j]
+    all_pairs = []
+    for c, inc in enumerate(chosen):
+        a = [r[j] for r in attempts[inc]]
+        pairs = [(a[k], a[k + 1]) for k in range(len(a) - 1) if a[k] > 0 and a[k + 1] > 0]
+        all_pairs += pairs
+        ax.loglog([p[0] for p in pairs], [p[1] for p in pairs], "o", color=colors[c % 10], ms=5, label=f"increment {inc}")
+    floor = floors[j]
+    local = []
+    for inc in chosen:
+        a = [r[j] for r in attempts[inc]]
+        local += [math.log(a[k + 1] / a[k]) / math.log(a[k] / a[k - 1]) for k in range(1, len(a) - 1)
+                  if a[k] < 1 and a[k + 1] >= floor and a[k - 1] > 0 and a[k] != a[k - 1]]
+    ax.axhline(floor, color="gray", ls=":", lw=1)
+    xs = [p[0] for p in all_pairs]
+    lo, hi = min(xs), max(xs)
+    for c0 in (1e-2, 1, 1e2):
+        ax.loglog([lo, hi], [c0 * lo ** 2, c0 * hi ** 2], "k--", lw=0.8)
+    ax.set_ylim(min(p[1] for p in all_pairs) / 3, max(p[1] for p in all_pairs) * 3)
+    ax.set_xlabel(f"R_{name}^(k)"); ax.set_ylabel(f"R_{name}^(k+1)")
+    ax.grid(alpha=0.3, which="both")
+    s_all = slope([p for p in all_pairs if p[0] < 1e-2])
+    s_flo = slope([p for p in all_pairs if p[0] < 1e-2 and p[1] >= floor])
+    med = statistics.median(local) if local else float("nan")
+    ax.set_title(f"{name}: fit slope {s_all[0]:.2f} (R^(k) < 1e-2), {s_flo[0]:.2f} (also R^(k+1) >= {floor:g});\n"
+                 f"median local order {med:.2f} (dotted: round-off floor)", fontsize=9)
+    print(f"R_{name}: slope of log R^(k+1) vs log R^(k), R^(k) < 1e-2: {s_all[0]:.3f} over {s_all[1]} pairs; "
+          f"excluding R^(k+1) < {floor:g}: {s_flo[0]:.3f} over {s_flo[1]} pairs; "
+          f"local orders within increments: median {med:.2f} of {len(local)} {[round(x, 2) for x in local]}")
+axs[0].legend(fontsize=7)
+fig.suptitle(f"Henann & Kamrin 2016 Fig. 2c: Newton residuals (tolerance {sys.argv[5]}), dashed: quadratic R^(k+1) = c R^(k)^2", fontsize=10)
+fig.tight_layout(); fig.savefig(f"{out}/newton_rate.png", dpi=130)
+PY
+echo "$out/newton_rate.csv"
