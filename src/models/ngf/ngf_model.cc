@@ -447,6 +447,9 @@ namespace granflow::ngf
               dg = std::max(dg, std::abs(dU[i])), g_max = std::max(g_max, std::abs(U[i]));
             else
               du = std::max(du, std::abs(dU[i])), u_max = std::max(u_max, std::abs(U[i]));
+          log.table() << std::setw(36) << "correction" << std::scientific << std::setprecision(3) << std::setw(12)
+                      << (u_max > 0. ? du / u_max : du) << std::setw(12) << (g_max > 0. ? dg / g_max : dg)
+                      << std::defaultfloat << '\n';
           if (du <= 1e-10 * u_max && dg <= 1e-10 * g_max)
             {
               U += dU;
