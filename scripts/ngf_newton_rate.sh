@@ -25,6 +25,7 @@ trap 'rm -rf "$runs"' EXIT
 run="$runs/newton_rate"
 "$build/apps/granflow" run cases/henann2016/linear_shear_gravity.prm --quiet --output "$run" \
   --set "Loading/Wall pressure=6.67" --set "Loading/Wall speed=1e-3" --set "Solver/Tolerance=$tol" \
+  --set "Solver/Reuse factorization=false" \
   --set "Output/Write vtu=false" --set "Output/Reference=none" >/dev/null
 /usr/bin/python3 - "$run/newton.csv" "$out" "$floor_u" "$floor_g" "$tol" <<'PY'
 import csv, math, statistics, sys

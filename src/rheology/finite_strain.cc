@@ -2,6 +2,7 @@
 
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace granflow::rheology
 {
@@ -27,7 +28,23 @@ namespace granflow::rheology
             }
           return e;
         }
-      return dealii::eigenvectors(A, SymmetricTensorEigenvectorMethod::jacobi);
+      // A non-finite tensor (from a diverging Newton iterate) gives non-finite eigenpairs, so that the
+      // caller sees a non-finite residual and cuts the step instead of stopping in deal.II.
+      Eigen nan;
+      for (auto &e : nan)
+        e.first = std::numeric_limits<double>::quiet_NaN();
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = i; j < 3; ++j)
+          if (!std::isfinite(A[i][j]))
+            return nan;
+      try
+        {
+          return dealii::eigenvectors(A, SymmetricTensorEigenvectorMethod::jacobi);
+        }
+      catch (const dealii::ExceptionBase &)
+        {
+          return nan; // no convergence of the Jacobi sweeps
+        }
     }
 
     SymTensor2

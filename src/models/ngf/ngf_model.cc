@@ -23,6 +23,7 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -122,6 +123,9 @@ namespace granflow::ngf
       std::vector<std::pair<types::boundary_id, double>> g_dirichlet, g_neumann;
       std::vector<NewtonRecord> newton_log;
       std::vector<unsigned int> dof_component; // 0-2 displacement-type, 3: g
+      double                    assembly_seconds = 0., solve_seconds = 0.;
+      SparseDirectUMFPACK       factorization;               // of the last Jacobian
+      bool                      factorization_valid = false;
       std::vector<Point<dim>>   dof_point;     // reference position of each dof
     };
 
@@ -288,6 +292,7 @@ namespace granflow::ngf
     typename Problem<dim>::ResidualNorms
     Problem<dim>::assemble(const double dt, const bool with_jacobian)
     {
+      const auto start = std::chrono::steady_clock::now();
       if (with_jacobian)
         jacobian = 0.;
       residual               = 0.;
@@ -402,6 +407,7 @@ namespace granflow::ngf
           }
       n.u_scale = force_scale;
       n.g_scale = fluidity_scale;
+      assembly_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return n;
     }
 
@@ -409,16 +415,20 @@ namespace granflow::ngf
     bool
     Problem<dim>::newton(const double dt, const unsigned int increment, unsigned int &iterations)
     {
-      SparseDirectUMFPACK solver;
-      Vector<double>      dU(U.size()), U_start(U.size());
+      Vector<double> dU(U.size()), U_start(U.size());
+      ResidualNorms  n;
+      bool           have_residual = false; // n and `residual` belong to the current U
       for (iterations = 0;; ++iterations)
         {
-          const ResidualNorms n   = assemble(dt, true);
-          const double        R_u = n.R_u(n.u_scale), R_g = n.R_g(n.g_scale);
+          const bool fresh = !prm.solver.reuse_factorization || !factorization_valid;
+          if (!have_residual || fresh)
+            n = assemble(dt, fresh);
+          have_residual    = false;
+          const double R_u = n.R_u(n.u_scale), R_g = n.R_g(n.g_scale);
           newton_log.push_back({increment, iterations, R_u, R_g});
           log.table() << std::setw(6) << increment << std::setw(6) << iterations << std::scientific
                       << std::setprecision(3) << std::setw(12) << R_u << std::setw(12) << R_g << std::defaultfloat
-                      << '\n';
+                      << (fresh ? "" : "  (previous factorization)") << '\n';
           if (!std::isfinite(R_u) || !std::isfinite(R_g))
             return false;
           if (R_u <= prm.solver.tolerance && R_g <= prm.solver.tolerance)
@@ -427,18 +437,24 @@ namespace granflow::ngf
             return false;
           try
             {
-              solver.initialize(jacobian);
+              const auto start = std::chrono::steady_clock::now();
+              if (fresh)
+                {
+                  factorization.initialize(jacobian);
+                  factorization_valid = true;
+                }
               dU = residual;
-              solver.solve(dU);
+              factorization.solve(dU);
+              solve_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             }
           catch (const dealii::SparseDirectUMFPACK::ExcUMFPACKError &)
             {
+              factorization_valid = false;
               return false; // a singular Jacobian: the increment is cut
             }
           dU *= -1.;
           newton_constraints.distribute(dU);
-          // At the residual's round-off floor (reached above the tolerance in large flowing regions,
-          // where the normalising mean is small) the full Newton correction is what tells convergence:
+          // At the residual's round-off floor the full Newton correction is what tells convergence:
           // below 1e-10 of each field it changes nothing a user could see.
           double du = 0., u_max = 0., dg = 0., g_max = 0.;
           for (types::global_dof_index i = 0; i < U.size(); ++i)
@@ -449,7 +465,7 @@ namespace granflow::ngf
           log.table() << std::setw(36) << "correction" << std::scientific << std::setprecision(3) << std::setw(12)
                       << (u_max > 0. ? du / u_max : du) << std::setw(12) << (g_max > 0. ? dg / g_max : dg)
                       << std::defaultfloat << '\n';
-          if (du <= 1e-10 * u_max && dg <= 1e-10 * g_max)
+          if (fresh && du <= 1e-10 * u_max && dg <= 1e-10 * g_max)
             {
               U += dU;
               return true;
@@ -457,6 +473,8 @@ namespace granflow::ngf
           // Backtracking on max(R_u, R_g) with this iterate's scales: the full step is taken whenever
           // it reduces the residual (always, near the solution), so quadratic convergence is kept; it
           // is halved where the fluidity problem is far from linear (onset of flow, free surface).
+          // A step with a previous factorization must contract the residual four times, or the
+          // Jacobian is factorized afresh.
           U_start             = U;
           const double merit0 = std::max(R_u, R_g);
           double       alpha  = 1.;
@@ -473,8 +491,18 @@ namespace granflow::ngf
                 break; // accept a short step; the next Jacobian is taken there
               const ResidualNorms m     = assemble(dt, false);
               const double        merit = std::max(m.R_u(n.u_scale), m.R_g(n.g_scale));
+              if (!fresh && !(merit <= 0.25 * merit0))
+                {
+                  U                   = U_start;
+                  factorization_valid = false;
+                  break;
+                }
               if (std::isfinite(merit) && merit <= (1. - 1e-4 * alpha) * merit0)
-                break;
+                {
+                  n             = m;
+                  have_residual = true;
+                  break;
+                }
             }
         }
     }
@@ -654,7 +682,9 @@ namespace granflow::ngf
       out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations", "max_v_over_v_wall"},
                     {h_disp, h_mu, h_iter, h_vmax});
       out.write_csv("newton.csv", {"increment", "iteration", "R_u", "R_g"}, {inc, it, ru, rg});
-      summary["timings"]                  = {{"total_s", log.elapsed()}};
+      summary["timings"] = {{"total_s", log.elapsed()},
+                            {"assembly_s", assembly_seconds},
+                            {"linear_solve_s", solve_seconds}};
       summary["converged"]                = failure.empty();
       summary["wall_displacement_over_d"] = u_wall / d;
       out.write_json("summary.json", summary);

@@ -112,6 +112,11 @@ namespace granflow::ngf
                         "Wall displacement of the first shear increment, in grain diameters, > 0.", Double(0.));
       prm.add_parameter("Max increment", s.max_increment,
                         "Largest wall displacement per increment, in grain diameters, > 0.", Double(0.));
+      prm.add_parameter("Reuse factorization", s.reuse_factorization,
+                        "Take Newton steps with the last factorized Jacobian (also across increments) while "
+                        "each reduces the residual at least 4 times; false: a fresh Jacobian every iteration "
+                        "(pure Newton, as for the quadratic-convergence study of Fig. 2c).",
+                        Bool());
       prm.add_parameter("Increment growth", s.growth,
                         "Factor by which the increment grows after a solve in at most 4 iterations.",
                         Double(1.));

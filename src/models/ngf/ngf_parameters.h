@@ -56,6 +56,7 @@ namespace granflow::ngf
     double       first_increment   = 1e-5;  // wall displacement of the first shear increment / d
     double       max_increment     = 0.01;  // largest wall displacement per increment / d
     double       growth            = 1.5;   // increment growth after an easy Newton solve
+    bool         reuse_factorization = true; // modified Newton steps while they contract 4x
   };
 
   struct OutputParameters
