@@ -75,16 +75,20 @@ namespace granflow::rheology
     }
   } // namespace
 
-  SymmetricFunction
-  log_sym(const SymTensor2 &A)
+  namespace
   {
-    const Eigen            e = eigen(A);
+    /// ln of a symmetric positive definite tensor from its eigenpairs, and d ln(A)/dA if asked.
+    SymmetricFunction
+    log_from_eigen(const Eigen &e, const bool with_derivative)
+    {
     std::array<double, 3>  f;
     for (unsigned int a = 0; a < 3; ++a)
       f[a] = std::log(e[a].first);
 
     SymmetricFunction r;
     r.value = spectral_sum(e, f);
+    if (!with_derivative)
+      return r;
     // d f(A) : dA = sum_ab theta_ab (n_a . dA n_b) n_a (x) n_b, theta_aa = f'(lambda_a),
     // theta_ab = (f(lambda_a) - f(lambda_b)) / (lambda_a - lambda_b): the classical derivative of an
     // isotropic tensor function (de Souza Neto et al. 2008, Appendix A), smooth at equal eigenvalues.
@@ -106,6 +110,13 @@ namespace granflow::rheology
                   }
         }
     return r;
+  }
+  } // namespace
+
+  SymmetricFunction
+  log_sym(const SymTensor2 &A)
+  {
+    return log_from_eigen(eigen(A), true);
   }
 
   SymTensor2
@@ -136,7 +147,8 @@ namespace granflow::rheology
     // Steps 1-2 (60)-(61): trial elastic state; Ebar_tr = ln(B^e_tr) / 2 is the spatial Hencky strain.
     const Tensor2    Fe_tr = F * dealii::invert(Fp_n);
     const SymTensor2 Be_tr = dealii::symmetrize(Fe_tr * dealii::transpose(Fe_tr));
-    const auto       lnB   = log_sym(Be_tr);
+    const Eigen      e_B   = eigen(Be_tr);
+    const auto       lnB   = log_from_eigen(e_B, with_tangents);
     const SymTensor2 E_tr  = 0.5 * lnB.value;
 
     // Step 3 (62), rotated to the spatial frame (71)-(72).
@@ -166,8 +178,12 @@ namespace granflow::rheology
     // Step 5 (64): Dbar^p = gamma_dot^p Nbar_tr / sqrt(2) = ((1 - ratio) / dt) s_tr / (2 S) since
     // dt gamma_dot^p = dt g mu = (taubar_tr - taubar) / S by (55)_1; F^e_{n+1} = exp(-dt Dbar^p) F^e_tr.
     r.gamma_dot_p = g_plus * r.mu;
-    const SymTensor2 dt_Dp = ((1. - ratio) / (2. * S)) * s_tr;
-    const Tensor2    Fe    = Tensor2(exp_sym(-dt_Dp)) * Fe_tr;
+    // dt Dbar^p = (1 - ratio) dev(Ebar_tr) is coaxial with B^e_tr: its exponential reuses the eigenvectors.
+    std::array<double, 3> exp_minus_dt_Dp;
+    const double          tr_E = dealii::trace(E_tr);
+    for (unsigned int a = 0; a < 3; ++a)
+      exp_minus_dt_Dp[a] = std::exp(-(1. - ratio) * (0.5 * std::log(e_B[a].first) - tr_E / 3.));
+    const Tensor2 Fe = Tensor2(spectral_sum(e_B, exp_minus_dt_Dp)) * Fe_tr;
     r.Fp                   = dealii::invert(Fe) * F;
 
     // Step 6 (65).
