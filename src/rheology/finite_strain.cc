@@ -129,6 +129,67 @@ namespace granflow::rheology
     return spectral_sum(e, f);
   }
 
+  namespace
+  {
+    /// Steps 1-3 (60)-(62) in the spatial frame: the trial elastic state.
+    struct Trial
+    {
+      Tensor2           Fe;
+      SymTensor2        Be, E, s; // B^e_tr, Ebar_tr = ln(B^e_tr) / 2, s_tr = dev T^K_tr
+      Eigen             eigen_B;
+      SymmetricFunction lnB;
+      double            p = 0., tau = 0.; // pbar_tr, taubar_tr (72)
+    };
+
+    Trial
+    trial_state(const Tensor2 &F, const Tensor2 &Fp_n, const ElasticModuli &moduli, const bool with_tangents)
+    {
+      Trial t;
+      t.Fe      = F * dealii::invert(Fp_n);
+      t.Be      = dealii::symmetrize(t.Fe * dealii::transpose(t.Fe));
+      t.eigen_B = eigen(t.Be);
+      t.lnB     = log_from_eigen(t.eigen_B, with_tangents);
+      t.E       = 0.5 * t.lnB.value;
+      t.s       = 2. * moduli.S * deviator(t.E);
+      t.p       = -moduli.B * dealii::trace(t.E);
+      t.tau     = t.s.norm() / std::sqrt(2.);
+      return t;
+    }
+
+    /// Step 5 (64): F^p_{n+1} = F^e_{n+1}^{-1} F with F^e_{n+1} = exp(-dt Dbar^p) F^e_tr and
+    /// dt Dbar^p = (taubar_tr - taubar) Nbar_tr / (sqrt(2) S) = (1 - ratio) dev(Ebar_tr), coaxial with
+    /// B^e_tr, so its exponential reuses the eigenvectors.
+    Tensor2
+    plastic_distortion(const Trial &t, const double ratio, const Tensor2 &F)
+    {
+      std::array<double, 3> f;
+      const double          tr_E = dealii::trace(t.E);
+      for (unsigned int a = 0; a < 3; ++a)
+        f[a] = std::exp(-(1. - ratio) * (0.5 * std::log(t.eigen_B[a].first) - tr_E / 3.));
+      return dealii::invert(Tensor2(spectral_sum(t.eigen_B, f)) * t.Fe) * F;
+    }
+
+    /// (68)-(69): C_ijkl = (1/J) sum_q (D : L)_ijkq B_ql - T_il delta_jk, with dEbar = L : dB / 2 and
+    /// dB_pq = dL_pk B_kq + B_pk dL_qk for dF = dL F.
+    Tensor4
+    spatial_tangent(const SymTensor4 &D, const Trial &t, const SymTensor2 &T, const double J)
+    {
+      const SymTensor4 DL = D * t.lnB.derivative;
+      Tensor4          C;
+      for (unsigned int i = 0; i < 3; ++i)
+        for (unsigned int j = 0; j < 3; ++j)
+          for (unsigned int k = 0; k < 3; ++k)
+            for (unsigned int l = 0; l < 3; ++l)
+              {
+                double v = 0.;
+                for (unsigned int q = 0; q < 3; ++q)
+                  v += DL[i][j][k][q] * t.Be[q][l];
+                C[i][j][k][l] = v / J - (j == k ? T[i][l] : 0.);
+              }
+      return C;
+    }
+  } // namespace
+
   NonlocalPointUpdate
   nonlocal_update(const Tensor2            &F,
                   const Tensor2            &Fp_n,
@@ -144,18 +205,10 @@ namespace granflow::rheology
     NonlocalPointUpdate r;
     r.J = dealii::determinant(F);
 
-    // Steps 1-2 (60)-(61): trial elastic state; Ebar_tr = ln(B^e_tr) / 2 is the spatial Hencky strain.
-    const Tensor2    Fe_tr = F * dealii::invert(Fp_n);
-    const SymTensor2 Be_tr = dealii::symmetrize(Fe_tr * dealii::transpose(Fe_tr));
-    const Eigen      e_B   = eigen(Be_tr);
-    const auto       lnB   = log_from_eigen(e_B, with_tangents);
-    const SymTensor2 E_tr  = 0.5 * lnB.value;
-
-    // Step 3 (62), rotated to the spatial frame (71)-(72).
-    const SymTensor2 TK_tr  = 2. * S * deviator(E_tr) + B * dealii::trace(E_tr) * I;
-    const double     p_tr   = -dealii::trace(TK_tr) / 3.;
-    const SymTensor2 s_tr   = deviator(TK_tr);
-    const double     tau_tr = s_tr.norm() / std::sqrt(2.);
+    // Steps 1-3 (60)-(62), rotated to the spatial frame (71)-(72).
+    const Trial       trial  = trial_state(F, Fp_n, moduli, with_tangents);
+    const double      p_tr   = trial.p, tau_tr = trial.tau;
+    const SymTensor2 &s_tr   = trial.s;
 
     // Step 4 (63) with the guards of the header: p = max(p_tr, 0), g_+ = max(g, 0).
     const bool   compressed = p_tr > 0.;
@@ -172,19 +225,11 @@ namespace granflow::rheology
     // mu = taubar / p = taubar_tr / den stays defined at p = 0 when g > 0 (no shear strength).
     r.mu = den > 0. ? tau_tr / den : material.mu_s;
     // (57), (70): T^K = T^K_tr - sqrt(2) (taubar_tr - taubar) Nbar_tr = -p_tr 1 + ratio s_tr.
-    const SymTensor2 TK = -p_tr * I + ratio * s_tr;
-    r.T                 = TK / r.J;
+    r.T = (-p_tr * I + ratio * s_tr) / r.J;
 
-    // Step 5 (64): Dbar^p = gamma_dot^p Nbar_tr / sqrt(2) = ((1 - ratio) / dt) s_tr / (2 S) since
-    // dt gamma_dot^p = dt g mu = (taubar_tr - taubar) / S by (55)_1; F^e_{n+1} = exp(-dt Dbar^p) F^e_tr.
+    // Step 5 (64); dt gamma_dot^p = dt g mu = (taubar_tr - taubar) / S by (55)_1.
     r.gamma_dot_p = g_plus * r.mu;
-    // dt Dbar^p = (1 - ratio) dev(Ebar_tr) is coaxial with B^e_tr: its exponential reuses the eigenvectors.
-    std::array<double, 3> exp_minus_dt_Dp;
-    const double          tr_E = dealii::trace(E_tr);
-    for (unsigned int a = 0; a < 3; ++a)
-      exp_minus_dt_Dp[a] = std::exp(-(1. - ratio) * (0.5 * std::log(e_B[a].first) - tr_E / 3.));
-    const Tensor2 Fe = Tensor2(spectral_sum(e_B, exp_minus_dt_Dp)) * Fe_tr;
-    r.Fp                   = dealii::invert(Fe) * F;
+    r.Fp          = plastic_distortion(trial, ratio, F);
 
     // Step 6 (65).
     const auto gl = local_fluidity(p, r.mu, material);
@@ -224,22 +269,59 @@ namespace granflow::rheology
     const double dratio_dg = den > 0. && flowing ? -p * S * dt / (den * den) : 0.;
     r.Lambda               = (dratio_dg / r.J) * s_tr;
 
-    // (68)-(69) with dEbar = L : dB / 2 and dB_pq = dL_pk B_kq + B_pk dL_qk for dF = dL F:
-    // C_ijkl = (1/J) sum_q (D : L)_ijkq B_ql - T_il delta_jk.
-    const SymTensor4 DL = D * lnB.derivative;
+    r.C = spatial_tangent(D, trial, r.T, r.J);
     // (85)-(86): F_lq dg_res/dF_kq = ((dg_res/dEbar : L) B)_kl.
-    const SymTensor2 Y = dgres_dE * lnB.derivative;
-    r.dgres_dL         = Tensor2(Y) * Tensor2(Be_tr);
-    for (unsigned int i = 0; i < 3; ++i)
-      for (unsigned int j = 0; j < 3; ++j)
-        for (unsigned int k = 0; k < 3; ++k)
-          for (unsigned int l = 0; l < 3; ++l)
-            {
-              double v = 0.;
-              for (unsigned int q = 0; q < 3; ++q)
-                v += DL[i][j][k][q] * Be_tr[q][l];
-              r.C[i][j][k][l] = v / r.J - (j == k ? r.T[i][l] : 0.);
-            }
+    r.dgres_dL = Tensor2(dgres_dE * trial.lnB.derivative) * Tensor2(trial.Be);
+    return r;
+  }
+
+  NonlocalPointUpdate
+  local_update(const Tensor2            &F,
+               const Tensor2            &Fp_n,
+               const double              dt,
+               const ElasticModuli      &moduli,
+               const NonlocalParameters &material,
+               const bool                with_tangents)
+  {
+    const double S = moduli.S, B = moduli.B;
+    const auto   I = dealii::unit_symmetric_tensor<3>();
+
+    NonlocalPointUpdate r;
+    r.J                = dealii::determinant(F);
+    const Trial trial  = trial_state(F, Fp_n, moduli, with_tangents);
+    const double p     = std::max(trial.p, 0.), tau_tr = trial.tau;
+    const double mu_s  = material.mu_s;
+    // (1): gamma_dot^p = sqrt(p / (rho_s d^2)) (mu - mu_s) / b for mu > mu_s. With (55)_1,
+    // taubar + S dt gamma_dot^p(taubar / p) = taubar_tr is linear in taubar:
+    // taubar = (taubar_tr + k mu_s p) / (1 + k), k = S dt / (b d sqrt(rho_s p)).
+    const bool   flowing = p > 0. && tau_tr > mu_s * p;
+    const double k       = flowing ? S * dt / (material.b * material.d * std::sqrt(material.rho_s * p)) : 0.;
+    const double tau     = flowing ? (tau_tr + k * mu_s * p) / (1. + k) : tau_tr;
+    const double ratio   = tau_tr > 0. ? tau / tau_tr : 1.;
+
+    r.p           = p;
+    r.tau         = tau;
+    r.mu          = p > 0. ? tau / p : 0.;
+    r.T           = (-trial.p * I + ratio * trial.s) / r.J;
+    r.gamma_dot_p = flowing ? (tau_tr - tau) / (S * dt) : 0.;
+    r.g_loc       = flowing ? r.gamma_dot_p / r.mu : 0.; // g = g_loc (22)
+    r.Fp          = plastic_distortion(trial, ratio, F);
+    if (!with_tangents)
+      return r;
+
+    // D = dT^K/dEbar = B 1 (x) 1 + 2 S ratio I_dev + s_tr (x) d ratio/dEbar, with
+    // d ratio / d taubar_tr = -k mu_s p / ((1 + k) taubar_tr^2), d taubar_tr / dEbar = S s_tr / taubar_tr,
+    // d taubar / dp = (k / 2) (mu_s + taubar / p) / (1 + k) (dk/dp = -k / (2 p)), dp / dEbar = -B 1.
+    SymTensor4 D = 2. * S * ratio * (dealii::identity_tensor<3>() - dealii::outer_product(I, I) / 3.) +
+                   B * dealii::outer_product(I, I);
+    if (flowing)
+      {
+        const double dratio_dtau_tr = -k * mu_s * p / ((1. + k) * tau_tr * tau_tr);
+        const double dratio_dp      = 0.5 * k * (mu_s + tau / p) / ((1. + k) * tau_tr);
+        D += dratio_dtau_tr * (S / tau_tr) * dealii::outer_product(trial.s, trial.s) -
+             B * dratio_dp * dealii::outer_product(trial.s, I);
+      }
+    r.C = spatial_tangent(D, trial, r.T, r.J);
     return r;
   }
 } // namespace granflow::rheology

@@ -80,4 +80,14 @@ namespace granflow::rheology
                   const ElasticModuli      &moduli,
                   const NonlocalParameters &material,
                   bool                      with_tangents = true);
+  /// The local variant (Henann 6.3, Fig. 7): g = g_loc, no fluidity unknown. The update (55)_1 with
+  /// the local flow rule (1) is linear in taubar and solved in closed form; C (68) is its consistent
+  /// tangent. g_loc holds the resulting fluidity gamma_dot^p / mu; g_res, Lambda and dgres_* are zero.
+  NonlocalPointUpdate
+  local_update(const Tensor2            &F,
+               const Tensor2            &Fp_n,
+               double                    dt,
+               const ElasticModuli      &moduli,
+               const NonlocalParameters &material,
+               bool                      with_tangents = true);
 } // namespace granflow::rheology

@@ -292,3 +292,53 @@ namespace
       }
   }
 } // namespace
+
+namespace
+{
+  // The local variant (g = g_loc): its tangent against differences of its own update, above and
+  // below mu_s, and its steady simple shear against the local rheology (1).
+  TEST(LocalUpdate, ConsistentTangentMatchesFiniteDifferences)
+  {
+    std::mt19937 rng(13);
+    int          flowing = 0;
+    for (int n = 0; n < 8; ++n)
+      {
+        const State s = make_state(rng, n % 2 ? 1e-3 : 2e-5, 0., 1e-3);
+        const auto  r = local_update(s.F, s.Fp_n, s.dt, moduli, glass);
+        flowing += r.gamma_dot_p > 0.;
+        Tensor4 C_fd;
+        for (unsigned int k = 0; k < 3; ++k)
+          for (unsigned int l = 0; l < 3; ++l)
+            {
+              const Tensor2 dF        = unit(k, l) * s.F;
+              const auto [dTK, dgres] = derivative(
+                [&](double e) { return local_update(s.F + e * dF, s.Fp_n, s.dt, moduli, glass, false); }, 1e-8);
+              (void)dgres;
+              for (unsigned int i = 0; i < 3; ++i)
+                for (unsigned int j = 0; j < 3; ++j)
+                  C_fd[i][j][k][l] = dTK[i][j] / r.J - (j == k ? r.T[i][l] : 0.);
+            }
+        EXPECT_LT(max_abs(r.C - C_fd), 1e-7 * max_abs(C_fd)) << "state " << n;
+      }
+    EXPECT_EQ(flowing, 4); // the large-shear states flow, the small-shear ones do not
+  }
+
+  TEST(LocalUpdate, SteadySimpleShearFollowsTheLocalRheology)
+  {
+    // Simple shear at rate gamma_dot: at steady state (1) gives mu = mu_s + b gamma_dot d sqrt(rho_s / p).
+    const double gamma_dot = 0.5, dt = 2e-4, pressure_strain = -1e-4;
+    Tensor2      Fp = dealii::unit_symmetric_tensor<3>();
+    NonlocalPointUpdate r;
+    for (int n = 1; n <= 400; ++n)
+      {
+        Tensor2 F = dealii::unit_symmetric_tensor<3>() * (1. + pressure_strain);
+        F[0][1]   = gamma_dot * n * dt;
+        r         = local_update(F, Fp, dt, moduli, glass);
+        Fp        = r.Fp;
+      }
+    const double I = gamma_dot * glass.d * std::sqrt(glass.rho_s / r.p);
+    EXPECT_NEAR(r.gamma_dot_p, gamma_dot, 1e-3 * gamma_dot);
+    EXPECT_NEAR(r.mu, glass.mu_s + glass.b * I, 1e-3 * r.mu);
+    EXPECT_NEAR(r.g_loc, local_fluidity(r.p, r.mu, glass).value, 1e-9 * r.g_loc);
+  }
+} // namespace

@@ -14,6 +14,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <map>
 
 namespace
 {
@@ -85,4 +86,62 @@ namespace
   INSTANTIATE_TEST_SUITE_P(Radii, AnnularShear,
                            ::testing::Values(Point{20., 1e-3}, Point{40., 1e-3}, Point{60., 1e-3}, Point{80., 1e-3},
                                              Point{100., 1e-3}));
+} // namespace
+
+namespace
+{
+  // Henann 6.3, Fig. 7b, on the annulus row: in the rate-independent regime (rate 1e-3) the local
+  // model (g = g_loc) collapses the flow into the first element at every resolution, while the
+  // nonlocal band keeps its width as the mesh changes (issue #3 f, here without gravity).
+  nlohmann::json
+  run_annulus(const std::string &fluidity, double h, const std::string &tag)
+  {
+    const auto parameters = ngf::load_parameters(case_file, {{"Solver/Fluidity", fluidity},
+                                                             {"Geometry/Element size", std::to_string(h)},
+                                                             {"Output/Reference", "none"},
+                                                             {"Output/Write vtu", "false"}});
+    const std::string dir = ::testing::TempDir() + "/granflow_ngf_mesh_" + tag;
+    std::filesystem::remove_all(dir);
+    OutputDirectory out(dir);
+    Logger          log(out.file("log.txt"), false);
+    auto            summary = ngf::run(parameters, out, log).summary;
+    out.commit();
+    summary["output_directory"] = dir;
+    return summary;
+  }
+
+  TEST(AnnularShearMeshDependence, LocalModelLocalisesInOneElementNonlocalDoesNot)
+  {
+    // v / v_wall against r - R_i at the nodes, per mesh; compared at the nodes the meshes share
+    // (every grain diameter)
+    std::map<double, std::map<long, double>> profile;
+    for (const double h : {1., 0.5, 1. / 3.})
+      {
+        const auto   local = run_annulus("local", h, "local_" + std::to_string(h));
+        const double W     = local["shear_band_width_over_d"];
+        RecordProperty("local_W_over_d_h" + std::to_string(h), std::to_string(W));
+        EXPECT_LT(W, h) << "local model, h/d = " << h << ": the band should lie within the first element";
+
+        const auto   nonlocal = run_annulus("nonlocal", h, "nonlocal_" + std::to_string(h));
+        const double Wn       = nonlocal["shear_band_width_over_d"];
+        RecordProperty("nonlocal_W_over_d_h" + std::to_string(h), std::to_string(Wn));
+        if (h < 0.9)
+          EXPECT_GT(Wn, 3. * h) << "the nonlocal band spans several elements at h/d = " << h;
+        const auto csv = test::read_csv(nonlocal["output_directory"].get<std::string>() + "/profiles/velocity.csv");
+        for (std::size_t i = 0; i < csv[0].size(); ++i)
+          profile[h][std::lround(csv[0][i] * 1e4)] = csv[1][i];
+      }
+    auto difference = [&](double h) {
+      double worst = 0.;
+      for (const auto &[x, v] : profile[h])
+        if (const auto fine = profile[1. / 3.].find(x); fine != profile[1. / 3.].end())
+          worst = std::max(worst, std::abs(v - fine->second));
+      return worst;
+    };
+    RecordProperty("nonlocal_profile_difference_h1_vs_h1/3", std::to_string(difference(1.)));
+    RecordProperty("nonlocal_profile_difference_h1/2_vs_h1/3", std::to_string(difference(0.5)));
+    // Fig. 7b's criterion (0.02 of the wall speed) holds between h/d = 1/2 and 1/3; h/d = 1, with two
+    // elements across the band, differs by about 0.09 (reported, not asserted).
+    EXPECT_LE(difference(0.5), 0.02);
+  }
 } // namespace

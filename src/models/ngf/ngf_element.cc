@@ -167,7 +167,8 @@ namespace granflow::ngf
           }
         const Tensor2 F_bar = std::cbrt(J0 / J) * k.F;
         const auto   &pt    = out.points[q] =
-          rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material, with_jacobian);
+          local ? rheology::local_update(F_bar, in.Fp_n[q], in.dt, moduli, material, with_jacobian) :
+                  rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material, with_jacobian);
         const Tensor2 F_inv  = dealii::invert(k.F);
         const Tensor2 F_invT = dealii::transpose(F_inv);
         Tensor<1, 3>  grad_g;

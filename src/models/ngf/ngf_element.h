@@ -75,12 +75,16 @@ namespace granflow::ngf
   class NonlocalElement
   {
   public:
+    /// `local`: the local variant g = g_loc (Henann 6.3, Fig. 7); the element's fluidity unknowns
+    /// are then unused (the model constrains them).
     NonlocalElement(Kinematics                          kinematics,
                     const rheology::ElasticModuli      &moduli,
-                    const rheology::NonlocalParameters &material)
+                    const rheology::NonlocalParameters &material,
+                    bool                                local = false)
       : kinematics(kinematics)
       , moduli(moduli)
       , material(material)
+      , local(local)
     {}
 
     /// Residual and (if wanted) Jacobian of one element. A non-finite or inverted iterate gives a
@@ -92,5 +96,6 @@ namespace granflow::ngf
     Kinematics                   kinematics;
     rheology::ElasticModuli      moduli;
     rheology::NonlocalParameters material;
+    bool                         local;
   };
 } // namespace granflow::ngf

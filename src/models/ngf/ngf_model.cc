@@ -135,7 +135,8 @@ namespace granflow::ngf
       , scale(prm.scales())
       , out(out)
       , log(log)
-      , element(column ? Kinematics::brick : Kinematics::axisymmetric, prm.material.elastic, prm.material.nonlocal)
+      , element(column ? Kinematics::brick : Kinematics::axisymmetric, prm.material.elastic, prm.material.nonlocal,
+                prm.solver.fluidity == "local")
       , fe(FE_Q<dim>(1), 4)
       , dof_handler(tria)
     {
@@ -285,6 +286,10 @@ namespace granflow::ngf
         }
       for (const auto &[id, value] : g_dirichlet)
         fix(id, 3, value);
+      if (prm.solver.fluidity == "local")
+        for (types::global_dof_index i = 0; i < dof_component.size(); ++i)
+          if (dof_component[i] == 3 && !c.is_constrained(i))
+            c.add_line(i); // g = g_loc is a quadrature-point quantity; the nodal fluidity is unused
       c.close();
     }
 

@@ -101,7 +101,8 @@ namespace granflow::ngf
     {
       auto &s = solver;
       prm.add_parameter("Fluidity", s.fluidity,
-                        "nonlocal: g is a nodal unknown solving (23); local: g = g_loc (not yet available).",
+                        "nonlocal: g is a nodal unknown solving (23); local: g = g_loc, the local rheology (1) "
+                        "(the comparison of Henann 6.3, Fig. 7).",
                         Selection("nonlocal|local"));
       prm.add_parameter("Tolerance", s.tolerance,
                         "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, > 0.",
@@ -174,8 +175,9 @@ namespace granflow::ngf
     if (output.reference == "finite difference" && geometry.shape == "annulus")
       throw InputError(f, "Output/Reference",
                        "= finite difference has no 1D reduction for the annulus with gravity: expected none");
-    if (solver.fluidity == "local")
-      throw InputError(f, "Solver/Fluidity", "= local is not implemented yet: expected nonlocal");
+    if (solver.fluidity == "local" && !(fluidity_bc.dirichlet.empty() && fluidity_bc.neumann.empty()))
+      throw InputError(f, "Solver/Fluidity",
+                       "= local has no fluidity field: leave the Fluidity boundary conditions empty");
     const auto names = boundary_names();
     for (const auto &[entry, list] : {std::pair{"Fluidity boundary conditions/Dirichlet", fluidity_dirichlet()},
                                       std::pair{"Fluidity boundary conditions/Neumann", fluidity_neumann()}})
