@@ -102,4 +102,20 @@ namespace granflow
       }
     write_text(name, s.str());
   }
+  template <int dim>
+  void
+  OutputDirectory::write_solution(const dealii::DataOutInterface<dim, dim> &data_out) const
+  {
+    std::ostringstream vtu;
+    data_out.write_vtu(vtu);
+    write_text("solution-0000.vtu", vtu.str());
+    std::ostringstream pvd;
+    dealii::DataOutBase::write_pvd_record(pvd, {{0., std::string("solution-0000.vtu")}});
+    write_text("solution.pvd", pvd.str());
+  }
+
+  template void
+  OutputDirectory::write_solution<2>(const dealii::DataOutInterface<2, 2> &) const;
+  template void
+  OutputDirectory::write_solution<3>(const dealii::DataOutInterface<3, 3> &) const;
 } // namespace granflow

@@ -4,6 +4,8 @@
 // commits, so nothing a user already has in the target is lost or left half-written.
 #pragma once
 
+#include <deal.II/base/data_out_base.h>
+
 #include <nlohmann/json.hpp>
 
 #include <string>
@@ -52,6 +54,11 @@ namespace granflow
     write_csv(const std::string                      &name,
               const std::vector<std::string>         &header,
               const std::vector<std::vector<double>> &columns) const;
+
+    /// solution-0000.vtu from `data_out` (patches already built) and the solution.pvd that lists it.
+    template <int dim>
+    void
+    write_solution(const dealii::DataOutInterface<dim, dim> &data_out) const;
 
   private:
     std::string final_path;

@@ -33,6 +33,21 @@ namespace granflow
                   const std::string           &case_file,
                   const std::vector<Override> &overrides);
 
+  /// Declares the entries of a model's Parameters (declare(prm)), parses `case_file` with the
+  /// overrides, and validates (validate()); InputError on bad input.
+  template <typename ModelParameters>
+  ModelParameters
+  load_case(const std::string &case_file, const std::vector<Override> &overrides)
+  {
+    ModelParameters          parameters;
+    dealii::ParameterHandler prm;
+    parameters.declare(prm);
+    parse_case_file(prm, case_file, overrides);
+    parameters.case_file = case_file;
+    parameters.validate();
+    return parameters;
+  }
+
   /// Throws InputError(file, entry, "...") unless value > 0 (for ranges Patterns cannot express).
   void
   require_positive(double value, const std::string &file, const std::string &entry);

@@ -7,6 +7,7 @@
 #include "models/ngf/ngf_model.h"
 #include "postprocess/nonlocal_1d.h"
 #include "support/csv.h"
+#include "support/reference_profile.h"
 
 #include <gtest/gtest.h>
 
@@ -59,16 +60,7 @@ namespace
 
     const auto profile = test::read_csv(dir + "/profiles/velocity.csv");
     ASSERT_GE(profile.size(), 2U);
-    double worst = 0.;
-    for (std::size_t i = 0; i < profile[0].size(); ++i)
-      {
-        const double z = profile[0][i] * d;
-        const double s = z / (reference.x[1] - reference.x[0]);
-        const auto   k = std::min<std::size_t>(static_cast<std::size_t>(s), reference.x.size() - 2);
-        const double t = s - k;
-        const double v = ((1. - t) * reference.v[k] + t * reference.v[k + 1]) / reference.v_wall;
-        worst          = std::max(worst, std::abs(profile[1][i] - v));
-      }
+    const double worst = test::max_difference_to_reference(profile[0], profile[1], reference, d);
     const double mu_wall = summary["mu_wall"];
     const double W       = summary["shear_band_width_over_d"];
     RecordProperty("max_velocity_difference", std::to_string(worst));

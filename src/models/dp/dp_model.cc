@@ -780,12 +780,7 @@ namespace granflow::dp
         if (name.rfind("lambda_", 0) != 0)
           data_out.add_data_vector(dof_s, field, name);
       data_out.build_patches(mapping, 2);
-      std::ostringstream vtu;
-      data_out.write_vtu(vtu);
-      out.write_text("solution-0000.vtu", vtu.str());
-      std::ostringstream pvd;
-      DataOutBase::write_pvd_record(pvd, {{0., std::string("solution-0000.vtu")}});
-      out.write_text("solution.pvd", pvd.str());
+      out.write_solution(data_out);
     }
   } // namespace
 

@@ -160,13 +160,7 @@ namespace granflow::dp
   Parameters
   load_parameters(const std::string &case_file, const std::vector<Override> &overrides)
   {
-    Parameters               parameters;
-    dealii::ParameterHandler prm;
-    parameters.declare(prm);
-    parse_case_file(prm, case_file, overrides);
-    parameters.case_file = case_file;
-    parameters.validate();
-    return parameters;
+    return load_case<Parameters>(case_file, overrides);
   }
 
   dealii::Point<2>

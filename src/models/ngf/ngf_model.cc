@@ -890,12 +890,7 @@ namespace granflow::ngf
       data_out.add_data_vector(tau, "equivalent_shear_stress");
       data_out.add_data_vector(gamma_dot, "plastic_shear_rate");
       data_out.build_patches();
-      std::ostringstream vtu;
-      data_out.write_vtu(vtu);
-      out.write_text("solution-0000.vtu", vtu.str());
-      std::ostringstream pvd;
-      DataOutBase::write_pvd_record(pvd, {{0., std::string("solution-0000.vtu")}});
-      out.write_text("solution.pvd", pvd.str());
+      out.write_solution(data_out);
     }
   } // namespace
 
