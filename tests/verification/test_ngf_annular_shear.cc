@@ -119,7 +119,9 @@ namespace
         const double Wn       = nonlocal["shear_band_width_over_d"];
         RecordProperty("nonlocal_W_over_d_h" + std::to_string(h), std::to_string(Wn));
         if (h < 0.9)
-          EXPECT_GT(Wn, 3. * h) << "the nonlocal band spans several elements at h/d = " << h;
+          {
+            EXPECT_GT(Wn, 3. * h) << "the nonlocal band spans several elements at h/d = " << h;
+          }
         const auto csv = test::read_csv(nonlocal["output_directory"].get<std::string>() + "/profiles/velocity.csv");
         for (std::size_t i = 0; i < csv[0].size(); ++i)
           profile[h][std::lround(csv[0][i] * 1e4)] = csv[1][i];
