@@ -8,7 +8,7 @@
 #    plot of Fig. 5b): OUT/annulus_gravity_surface.csv (one column per rate, shared nodes),
 #    OUT/annulus_gravity_surface.png (linear axes and log y);
 #  - (R, Z) fields at R_i Omega / sqrt(G d) = 1e-3 (rate-independent row of Fig. 6):
-#    OUT/annulus_gravity_rate1e-3.vtu and OUT/annulus_gravity_fields_rate1e-3.png plus one PNG per
+#    OUT/annulus_gravity_fields_rate1e-3.png plus one PNG per
 #    field, OUT/annulus_gravity_field_{v_over_v_wall,p_over_reference_pressure,mu}.png.
 # Columns of the rate CSV: W_over_d = distance from the inner wall at which v/v_wall = 1/e on the
 # surface, increments and newton_iterations_per_increment from summary.json, time_s = total run
@@ -66,7 +66,6 @@ for r in 1e-5 1e-4 1e-3 1e-2 1e-1 1; do
   fi
   row "$runs/rate_$r" "$r" "$note" >>"$rate_csv"
 done
-cp "$runs/rate_$field_rate/solution-0000.vtu" "$out/annulus_gravity_rate$field_rate.vtu"
 
 surface_csv="$out/annulus_gravity_surface.csv"
 /usr/bin/python3 - "$surface_csv" "$runs" 1e-4 1e-2 1 <<'PY'
@@ -88,7 +87,7 @@ with open(out, "w", newline="") as f:
         w.writerow([repr(xi)] + [c[i] for c in cols])
 PY
 
-/usr/bin/python3 - "$rate_csv" "$surface_csv" "$out" "$field_rate" <<'PY'
+/usr/bin/python3 - "$rate_csv" "$surface_csv" "$out" "$field_rate" "$runs" <<'PY'
 import csv, sys
 import numpy as np
 import matplotlib
@@ -96,7 +95,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import matplotlib.tri as mtri
 import meshio
-rate_csv, surface_csv, out, field_rate = sys.argv[1:5]
+rate_csv, surface_csv, out, field_rate, runs = sys.argv[1:6]
 
 # Inset of Fig. 5b: W/d against R_i Omega / sqrt(G d).
 rows = list(csv.DictReader(open(rate_csv)))
@@ -127,7 +126,7 @@ fig.suptitle("Henann & Kamrin 2016 Fig. 5b: surface velocity, R_i/d = 60")
 fig.tight_layout(); fig.savefig(f"{out}/annulus_gravity_surface.png", dpi=130)
 
 # Fig. 6 (rate-independent row): fields in the (r, z) plane at the field rate.
-mesh = meshio.read(f"{out}/annulus_gravity_rate{field_rate}.vtu")
+mesh = meshio.read(f"{runs}/rate_{field_rate}/solution-0000.vtu")
 quads = np.vstack([c.data for c in mesh.cells if c.type == "quad"])
 tris = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
 d = 1e-3  # grain diameter [m] of the case file; mesh coordinates are in metres
