@@ -13,7 +13,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
+#include <string>
 #include <filesystem>
 #include <map>
 
@@ -75,10 +77,22 @@ namespace
   }
 
   // Fig. 3b: the rotation rate at R_i / d = 60; Fig. 3d: the inner radius at rate 1e-3.
-  INSTANTIATE_TEST_SUITE_P(Rates, AnnularShear, ::testing::Values(Point{60., 1e-4}, Point{60., 1e-2}, Point{60., 1.}));
+  INSTANTIATE_TEST_SUITE_P(Rates, AnnularShear, ::testing::Values(Point{60., 1e-4}, Point{60., 1e-2}, Point{60., 1.}), [](const ::testing::TestParamInfo<Point> &info) {
+                             std::string name = "R" + std::to_string(info.param.R_i) + "_rate" + std::to_string(info.param.rate);
+                             for (char &c : name)
+                               if (!std::isalnum(static_cast<unsigned char>(c)))
+                                 c = '_';
+                             return name;
+                           });
   INSTANTIATE_TEST_SUITE_P(Radii, AnnularShear,
                            ::testing::Values(Point{20., 1e-3}, Point{40., 1e-3}, Point{60., 1e-3}, Point{80., 1e-3},
-                                             Point{100., 1e-3}));
+                                             Point{100., 1e-3}), [](const ::testing::TestParamInfo<Point> &info) {
+                             std::string name = "R" + std::to_string(info.param.R_i) + "_rate" + std::to_string(info.param.rate);
+                             for (char &c : name)
+                               if (!std::isalnum(static_cast<unsigned char>(c)))
+                                 c = '_';
+                             return name;
+                           });
 } // namespace
 
 namespace

@@ -11,7 +11,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <cmath>
+#include <string>
 #include <filesystem>
 
 namespace
@@ -74,8 +76,20 @@ namespace
   }
 
   // Fig. 1b: the wall speed at P_wall = 6.67; Fig. 1d: the wall pressure at v_wall = 1e-3.
-  INSTANTIATE_TEST_SUITE_P(Speeds, LinearShear, ::testing::Values(Point{6.67, 1e-4}, Point{6.67, 1e-2}, Point{6.67, 1.}));
+  INSTANTIATE_TEST_SUITE_P(Speeds, LinearShear, ::testing::Values(Point{6.67, 1e-4}, Point{6.67, 1e-2}, Point{6.67, 1.}), [](const ::testing::TestParamInfo<Point> &info) {
+                             std::string name = "P" + std::to_string(info.param.P_wall) + "_v" + std::to_string(info.param.v_wall);
+                             for (char &c : name)
+                               if (!std::isalnum(static_cast<unsigned char>(c)))
+                                 c = '_';
+                             return name;
+                           });
   INSTANTIATE_TEST_SUITE_P(Pressures, LinearShear,
                            ::testing::Values(Point{3.33, 1e-3}, Point{6.67, 1e-3}, Point{12.5, 1e-3}, Point{25., 1e-3},
-                                             Point{50., 1e-3}, Point{100., 1e-3}));
+                                             Point{50., 1e-3}, Point{100., 1e-3}), [](const ::testing::TestParamInfo<Point> &info) {
+                             std::string name = "P" + std::to_string(info.param.P_wall) + "_v" + std::to_string(info.param.v_wall);
+                             for (char &c : name)
+                               if (!std::isalnum(static_cast<unsigned char>(c)))
+                                 c = '_';
+                             return name;
+                           });
 } // namespace
