@@ -8,7 +8,7 @@
 set -uo pipefail
 build=${1:-build} out=${2:-results/bench_ngf}
 mkdir -p "$out"
-cases=(linear_shear_gravity annular_shear annular_shear_gravity)
+cases=(linear_shear_gravity annular_shear annular_shear_gravity annular_shear_gravity_slice)
 echo "[" >"$out/ngf_performance.json"
 printf '%-24s %10s %11s %14s %10s\n' case time_s increments iter/increment converged
 first=1

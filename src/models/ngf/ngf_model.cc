@@ -42,9 +42,9 @@ namespace granflow::ngf
       double       R_u, R_g;
     };
 
-    /// One run of a geometry: dim = 3 is the shear column of bricks (Henann 6.1), dim = 2 an annulus
-    /// section of generalized-axisymmetric quads (6.2, 6.3). Nodal unknowns: (u_x, u_y, u_z, g) or
-    /// (u_r, u_z, theta, g).
+    /// One run of a geometry: dim = 3 are bricks (the shear column of Henann 6.1, the annulus slice of
+    /// 6.3), dim = 2 an annulus section of generalized-axisymmetric quads (6.2, 6.3). Nodal unknowns:
+    /// (u_x, u_y, u_z, g) or (u_r, u_z, theta, g).
     template <int dim>
     class Problem
     {
@@ -54,13 +54,16 @@ namespace granflow::ngf
       run();
 
     private:
-      static constexpr bool column = dim == 3;
-      // boundary ids of GridGenerator::subdivided_hyper_rectangle with colorize = true
-      static constexpr types::boundary_id wall_id     = column ? 4 : 0; // the driven wall (z = 0, R = R_i)
-      static constexpr types::boundary_id outer_id    = column ? 5 : 1; // z = depth, R = R_o
-      static constexpr types::boundary_id floor_id    = 2;              // Z = 0 (annulus)
-      static constexpr types::boundary_id top_id      = 3;              // Z = H (annulus)
-      static constexpr unsigned int       twist       = 2;              // theta component (annulus)
+      const bool column; // the shear column (6.1)
+      const bool slice;  // the 3D annulus slice (6.3)
+      // boundary ids: of GridGenerator::subdivided_hyper_rectangle with colorize = true for the column
+      // and the quad section; the slice is renumbered to the quad's ids plus its two periodic faces
+      const types::boundary_id            wall_id;       // the driven wall (z = 0, R = R_i)
+      const types::boundary_id            outer_id;      // z = depth, R = R_o
+      static constexpr types::boundary_id floor_id = 2;  // Z = 0 (annulus)
+      static constexpr types::boundary_id top_id   = 3;  // Z = H (annulus)
+      static constexpr types::boundary_id first_face = 4, second_face = 5; // theta = 0, slice angle
+      static constexpr unsigned int       twist    = 2;  // theta component (quad)
 
       types::boundary_id
       boundary_id(const std::string &name) const;
@@ -73,6 +76,10 @@ namespace granflow::ngf
       /// constraints of the Newton corrections.
       void
       make_constraints(AffineConstraints<double> &c, double u_wall, bool homogeneous) const;
+      /// The slice's rotated periodicity: the nodes of the face at the slice angle are the images of
+      /// those at Theta = 0 under the rotation Q about z, with u = Q u_0 and g = g_0 there.
+      void
+      add_rotated_periodicity(AffineConstraints<double> &c) const;
       /// L_inf norms of the displacement and fluidity residuals and the scales that normalise them.
       struct ResidualNorms
       {
@@ -131,11 +138,15 @@ namespace granflow::ngf
 
     template <int dim>
     Problem<dim>::Problem(const Parameters &prm, OutputDirectory &out, Logger &log)
-      : prm(prm)
+      : column(prm.geometry.shape == "shear column")
+      , slice(prm.geometry.shape == "annulus slice")
+      , wall_id(column ? 4 : 0)
+      , outer_id(column ? 5 : 1)
+      , prm(prm)
       , scale(prm.scales())
       , out(out)
       , log(log)
-      , element(column ? Kinematics::brick : Kinematics::axisymmetric, prm.material.elastic, prm.material.nonlocal,
+      , element(dim == 3 ? Kinematics::brick : Kinematics::axisymmetric, prm.material.elastic, prm.material.nonlocal,
                 prm.solver.fluidity == "local")
       , fe(FE_Q<dim>(1), 4)
       , dof_handler(tria)
@@ -163,8 +174,27 @@ namespace granflow::ngf
     Problem<dim>::make_mesh()
     {
       if constexpr (dim == 3)
-        GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_2, scale.n_2, scale.n_1}, Point<3>(0., 0., 0.),
-                                                  Point<3>(scale.h, scale.h, scale.depth), true);
+        {
+          if (column)
+            GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_2, scale.n_2, scale.n_1}, Point<3>(0., 0., 0.),
+                                                      Point<3>(scale.h, scale.h, scale.depth), true);
+          else
+            {
+              // (R, Theta, Z) box mapped to the slice; ids: R_i 0, R_o 1, Theta = 0 -> 4, slice angle -> 5,
+              // Z = 0 -> 2, Z = H -> 3 (the quad section's ids plus the two periodic faces)
+              const double angle = prm.geometry.slice_angle * M_PI / 180.;
+              GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_1, 1U, scale.n_2}, Point<3>(scale.R_i, 0., 0.),
+                                                        Point<3>(scale.R_o, angle, scale.H), true);
+              for (const auto &face : tria.active_face_iterators())
+                if (face->at_boundary())
+                  {
+                    const types::boundary_id id = face->boundary_id();
+                    face->set_boundary_id(id == 2 ? 4 : id == 3 ? 5 : id == 4 ? 2 : id == 5 ? 3 : id);
+                  }
+              GridTools::transform(
+                [](const Point<3> &p) { return Point<3>(p[0] * std::cos(p[1]), p[0] * std::sin(p[1]), p[2]); }, tria);
+            }
+        }
       else
         GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_1, scale.n_2}, Point<2>(scale.R_i, 0.),
                                                   Point<2>(scale.R_o, scale.H), true);
@@ -252,7 +282,28 @@ namespace granflow::ngf
         VectorTools::interpolate_boundary_values(dof_handler, id, Functions::ConstantFunction<dim>(s * value, 4), c,
                                                  fe.component_mask(FEValuesExtractors::Scalar(component)));
       };
-      if constexpr (dim == 3)
+      if (slice)
+        {
+          // 6.3 on the 3D slice: the inner wall turns rigidly about z (u = (Q(theta_w) - 1) x in x and y),
+          // the outer wall is fixed in x and y, the floor in z; the grains slide freely along z on the walls.
+          const double theta_w = u_wall / scale.R_i;
+          for (const unsigned int k : {0U, 1U})
+            {
+              VectorTools::interpolate_boundary_values(
+                dof_handler, wall_id,
+                VectorFunctionFromScalarFunctionObject<dim>(
+                  [&, k](const Point<dim> &x) {
+                    const double cs = std::cos(theta_w) - 1., sn = std::sin(theta_w);
+                    return s * (k == 0 ? cs * x[0] - sn * x[1] : sn * x[0] + cs * x[1]);
+                  },
+                  k, 4),
+                c, fe.component_mask(FEValuesExtractors::Scalar(k)));
+              fix(outer_id, k, 0.);
+            }
+          fix(floor_id, 2, 0.);
+          add_rotated_periodicity(c);
+        }
+      else if constexpr (dim == 3)
         {
           std::vector<GridTools::PeriodicFacePair<typename DoFHandler<dim>::cell_iterator>> periodic;
           GridTools::collect_periodic_faces(dof_handler, 0, 1, 0, periodic);
@@ -291,6 +342,39 @@ namespace granflow::ngf
           if (dof_component[i] == 3 && !c.is_constrained(i))
             c.add_line(i); // g = g_loc is a quadrature-point quantity; the nodal fluidity is unused
       c.close();
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::add_rotated_periodicity(AffineConstraints<double> &c) const
+    {
+      const double angle = prm.geometry.slice_angle * M_PI / 180.;
+      const double cs = std::cos(angle), sn = std::sin(angle);
+      using Node = std::array<types::global_dof_index, 4>;
+      auto key   = [&](const Point<dim> &x) {
+        return std::make_pair(std::lround(std::hypot(x[0], x[1]) / scale.h * 1e6), std::lround(x[dim - 1] / scale.h * 1e6));
+      };
+      std::map<std::pair<long, long>, Node> first, second;
+      for (const auto i : DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {first_face}))
+        first[key(dof_point[i])][dof_component[i]] = i;
+      for (const auto i : DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {second_face}))
+        second[key(dof_point[i])][dof_component[i]] = i;
+      AssertThrow(first.size() == second.size(), ExcMessage("the periodic faces of the slice do not match"));
+      for (const auto &[where, slave] : second)
+        {
+          const Node &master = first.at(where);
+          // rows of Q for (u_x, u_y, u_z, g)
+          const double Q[4][4] = {{cs, -sn, 0., 0.}, {sn, cs, 0., 0.}, {0., 0., 1., 0.}, {0., 0., 0., 1.}};
+          for (unsigned int k = 0; k < 4; ++k)
+            {
+              if (c.is_constrained(slave[k]))
+                continue; // a wall condition, itself the rotated image of the master's
+              c.add_line(slave[k]);
+              for (unsigned int j = 0; j < 4; ++j)
+                if (Q[k][j] != 0.)
+                  c.add_entry(slave[k], master[j], Q[k][j]);
+            }
+        }
     }
 
     template <int dim>
@@ -374,7 +458,7 @@ namespace granflow::ngf
               face.reinit(cell, f);
               for (unsigned int q = 0; q < face_quadrature.size(); ++q)
                 {
-                  const double dA = face.JxW(q) * (column ? 1. : face.quadrature_point(q)[0]);
+                  const double dA = face.JxW(q) * (dim == 3 ? 1. : face.quadrature_point(q)[0]);
                   for (unsigned int i = 0; i < dofs.size(); ++i)
                     {
                       const unsigned int component = fe.system_to_component_index(i).first;
@@ -519,6 +603,21 @@ namespace granflow::ngf
       // Column: the x-force of the wall on the bed per unit area over P_wall. Annulus: the moment of the
       // inner wall per radian, M = tau_wall R_i (R_i H), over R_i^2 H P (P_wall, or for 6.3 the mean
       // hydrostatic pressure along the wall, phi rho_s G H / 2).
+      if (slice)
+        {
+          // the moment about z of the wall's x- and y-reactions, per radian of the slice
+          double moment = 0.;
+          for (const auto i : DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {wall_id}))
+            {
+              const Point<dim> &x = dof_point[i];
+              if (dof_component[i] == 0)
+                moment -= x[1] * unconstrained_residual[i];
+              else if (dof_component[i] == 1)
+                moment += x[0] * unconstrained_residual[i];
+            }
+          moment /= prm.geometry.slice_angle * M_PI / 180.;
+          return moment / (scale.R_i * scale.R_i * scale.H) / (0.5 * scale.P_wall);
+        }
       const unsigned int component = column ? 0 : twist;
       const IndexSet     wall_dofs =
         DoFTools::extract_boundary_dofs(dof_handler, fe.component_mask(FEValuesExtractors::Scalar(component)), {wall_id});
@@ -538,7 +637,7 @@ namespace granflow::ngf
       Vector<double> v(U);
       v -= U_n;
       v /= dt;
-      if (!column)
+      if (dim == 2)
         for (types::global_dof_index i = 0; i < v.size(); ++i)
           if (dof_component[i] == twist)
             {
@@ -560,7 +659,7 @@ namespace granflow::ngf
       setup_system();
       const double d = scale.d;
       log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
-                (column ? " bricks" : " generalized-axisymmetric quads") + ", h/d = " + std::to_string(scale.h / d) +
+                (dim == 3 ? " bricks" : " generalized-axisymmetric quads") + ", h/d = " + std::to_string(scale.h / d) +
                 ", " + std::to_string(dof_handler.n_dofs()) + " dofs\n");
       log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
                   << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u" << std::setw(12)
@@ -620,7 +719,7 @@ namespace granflow::ngf
               mu_wall          = wall_stress_ratio();
               double v_max     = 0.;
               for (types::global_dof_index i = 0; i < v.size(); ++i)
-                if (dof_component[i] == (column ? 0U : twist))
+                if ((slice ? dof_component[i] < 2 : dof_component[i] == (column ? 0U : twist)))
                   v_max = std::max(v_max, std::abs(v[i]));
               h_disp.push_back(u_wall / d);
               h_mu.push_back(mu_wall);
@@ -669,7 +768,7 @@ namespace granflow::ngf
       // Steadiness over the last increment: change of mu_wall and of the wall-parallel velocity.
       double dv = 0.;
       for (types::global_dof_index i = 0; i < v.size(); ++i)
-        if (dof_component[i] == (column ? 0U : twist))
+        if ((slice ? dof_component[i] < 2 : dof_component[i] == (column ? 0U : twist)))
           dv = std::max(dv, std::abs(v[i] - v_previous[i]) / scale.v_wall);
       summary["steady_state"] = {{"mu_wall_change_last_increment", std::abs(mu_wall - mu_wall_previous)},
                                  {"velocity_change_last_increment", dv}};
@@ -709,18 +808,20 @@ namespace granflow::ngf
     {
       const double d = scale.d;
       // Nodal profile across the shear band, from the driven wall: along the edge x = y = 0 of the
-      // column (depth z), along the bottom of the annulus row, along the free surface of the annulus.
+      // column (depth z), along the bottom of the annulus row, along the free surface of the annulus
+      // (for the slice: on its face Theta = 0, where x = R).
       const unsigned int along     = column ? 2 : 0;
       const unsigned int parallel  = column ? 0 : twist;
       auto               on_line   = [&](const Point<dim> &x) {
-        if constexpr (dim == 3)
+        if (column)
           return x[0] < 1e-9 * scale.h && x[1] < 1e-9 * scale.h;
-        else
-          return prm.geometry.shape == "annulus row" ? x[1] < 1e-9 * scale.H : x[1] > scale.H * (1. - 1e-9);
+        if (slice)
+          return std::abs(x[1]) < 1e-9 * scale.h && x[dim - 1] > scale.H * (1. - 1e-9);
+        return prm.geometry.shape == "annulus row" ? x[1] < 1e-9 * scale.H : x[1] > scale.H * (1. - 1e-9);
       };
       struct NodeValues
       {
-        double v = 0., g = 0., u = 0.;
+        double v = 0., g = 0., u = 0., v_x = 0., u_x = 0., u_y = 0.;
       };
       std::map<double, NodeValues> by_distance;
       for (types::global_dof_index i = 0; i < dof_point.size(); ++i)
@@ -728,7 +829,13 @@ namespace granflow::ngf
           if (!on_line(dof_point[i]))
             continue;
           auto &node = by_distance[dof_point[i][along] - (column ? 0. : scale.R_i)];
-          if (dof_component[i] == parallel)
+          if (slice && dof_component[i] < 2)
+            {
+              // v_theta = -sin(phi) v_x + cos(phi) v_y at the node's current angle phi
+              (dof_component[i] == 0 ? node.v_x : node.v) = v[i];
+              (dof_component[i] == 0 ? node.u_x : node.u_y) = U[i];
+            }
+          else if (!slice && dof_component[i] == parallel)
             {
               node.v = v[i] / scale.v_wall;
               node.u = column ? U[i] / d : U[i]; // u_x / d, or theta [rad]
@@ -736,6 +843,14 @@ namespace granflow::ngf
           else if (dof_component[i] == 3)
             node.g = U[i];
         }
+      if (slice)
+        for (auto &[distance, node] : by_distance)
+          {
+            const double R   = scale.R_i + distance;
+            const double phi = std::atan2(node.u_y, R + node.u_x);
+            node.v           = (-std::sin(phi) * node.v_x + std::cos(phi) * node.v) / scale.v_wall;
+            node.u           = phi; // the angle of rotation theta
+          }
       // g in units of sqrt(G / d) (with gravity) or sqrt(P_wall / (rho_s d^2)) (annulus row)
       const double g_unit = prm.geometry.shape == "annulus row" ?
                               std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d :
@@ -818,7 +933,7 @@ namespace granflow::ngf
       for (const auto &cell : tria.active_cell_iterators())
         {
           const Point<dim> c = cell->center();
-          if (!column && prm.geometry.shape == "annulus" && c[1] < scale.H - scale.h)
+          if (!column && prm.geometry.shape != "annulus row" && c[dim - 1] < scale.H - scale.h)
             continue; // the annulus: the surface row
           const auto &pts = points[cell->active_cell_index()];
           double      m = 0., pp = 0., gl = 0.;
@@ -845,7 +960,7 @@ namespace granflow::ngf
       using DCI = DataComponentInterpretation::DataComponentInterpretation;
       std::vector<std::string> names, vnames;
       std::vector<DCI>         kinds;
-      if (column)
+      if (dim == 3)
         {
           names  = {"displacement", "displacement", "displacement", "g"};
           vnames = {"velocity", "velocity", "velocity", "dg_dt"};
@@ -869,7 +984,7 @@ namespace granflow::ngf
       for (types::global_dof_index i = 0; i < v.size(); ++i)
         v_scaled[i] = v[i] / scale.v_wall;
       std::vector<std::string> snames = {"v_over_v_wall_0", "v_over_v_wall_1", "v_over_v_wall", "g_rate_scaled"};
-      if (column)
+      if (dim == 3)
         snames = {"v_over_v_wall", "v_over_v_wall_y", "v_over_v_wall_z", "g_rate_scaled"};
       data_out.add_data_vector(v_scaled, snames, DataOut<dim>::type_dof_data);
       const unsigned int n = tria.n_active_cells();
@@ -897,7 +1012,7 @@ namespace granflow::ngf
   Results
   run(const Parameters &parameters, OutputDirectory &output, Logger &log)
   {
-    if (parameters.geometry.shape == "shear column")
+    if (parameters.geometry.shape == "shear column" || parameters.geometry.shape == "annulus slice")
       {
         Problem<3> problem(parameters, output, log);
         return problem.run();

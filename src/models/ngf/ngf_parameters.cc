@@ -51,14 +51,17 @@ namespace granflow::ngf
                         "annulus row: one row of generalized-axisymmetric quads from R_i ('inner wall', "
                         "rotated) to R_o ('outer wall', pressed), u_z = 0 (6.2, Fig. 3a); annulus: the "
                         "(R, Z) section of an annular cell of height H with gravity, smooth floor ('bottom'), "
-                        "free surface ('top') (6.3, Fig. 5a).",
-                        Selection("shear column|annulus row|annulus"));
+                        "free surface ('top') (6.3, Fig. 5a); annulus slice: the same cell as a 3D slice of "
+                        "bricks one element thick with rotated periodic faces (6.3).",
+                        Selection("shear column|annulus row|annulus|annulus slice"));
       prm.add_parameter("Depth", g.depth, "Bed depth of the shear column in grain diameters (6.1: 20), > 0.",
                         Double(0.));
       prm.add_parameter("Inner radius", g.inner_radius, "Annulus inner radius R_i in grain diameters (6.2: 60), > 0.",
                         Double(0.));
       prm.add_parameter("Gap", g.gap, "Annulus width R_o - R_i in grain diameters (6.2: 20), > 0.", Double(0.));
       prm.add_parameter("Height", g.height, "Annulus fill height H in grain diameters (6.3: 15), > 0.", Double(0.));
+      prm.add_parameter("Slice angle", g.slice_angle,
+                        "Angle of the 3D annulus slice in degrees (6.3: 0.1), in (0, 10].", Double(0., 10.));
       prm.add_parameter("Element size", g.element_size,
                         "Element size h in grain diameters (6.1: 1/3); rounded so that every length is an "
                         "integer number of elements, > 0.",
@@ -158,8 +161,9 @@ namespace granflow::ngf
     require_positive(geometry.height, f, "Geometry/Height");
     require_positive(geometry.element_size, f, "Geometry/Element size");
     const double shortest = geometry.shape == "shear column" ? geometry.depth :
-                            geometry.shape == "annulus"      ? std::min(geometry.gap, geometry.height) :
-                                                               geometry.gap;
+                            geometry.shape == "annulus row"  ? geometry.gap :
+                                                               std::min(geometry.gap, geometry.height);
+    require_positive(geometry.slice_angle, f, "Geometry/Slice angle");
     if (geometry.element_size > shortest)
       throw InputError(f, "Geometry/Element size",
                        "= " + std::to_string(geometry.element_size) + " is larger than the domain (" +
@@ -172,7 +176,7 @@ namespace granflow::ngf
     require_positive(solver.tolerance, f, "Solver/Tolerance");
     require_positive(solver.first_increment, f, "Solver/First increment");
     require_positive(solver.max_increment, f, "Solver/Max increment");
-    if (output.reference == "finite difference" && geometry.shape == "annulus")
+    if (output.reference == "finite difference" && (geometry.shape == "annulus" || geometry.shape == "annulus slice"))
       throw InputError(f, "Output/Reference",
                        "= finite difference has no 1D reduction for the annulus with gravity: expected none");
     if (solver.fluidity == "local" && !(fluidity_bc.dirichlet.empty() && fluidity_bc.neumann.empty()))

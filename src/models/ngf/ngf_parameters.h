@@ -25,11 +25,12 @@ namespace granflow::ngf
 
   struct GeometryParameters
   {
-    std::string shape        = "shear column"; // shear column (6.1) | annulus row (6.2) | annulus (6.3)
+    std::string shape        = "shear column"; // shear column (6.1) | annulus row (6.2) | annulus (6.3) | annulus slice (6.3, 3D)
     double      depth        = 20.;            // bed depth / d (shear column)
     double      inner_radius = 60.;            // R_i / d (annulus)
     double      gap          = 20.;            // (R_o - R_i) / d (annulus)
     double      height       = 15.;            // H / d (annulus)
+    double      slice_angle  = 0.1;            // angle of the 3D slice [degrees] (annulus slice)
     double      element_size = 1. / 3.;        // h / d
   };
 
