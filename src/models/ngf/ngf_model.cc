@@ -605,15 +605,17 @@ namespace granflow::ngf
       // hydrostatic pressure along the wall, phi rho_s G H / 2).
       if (slice)
         {
-          // the moment about z of the wall's x- and y-reactions, per radian of the slice
+          // the moment about z of the wall's x- and y-reactions at the nodes' current positions (the
+          // radial reactions have a lever arm once the wall has turned), per radian of the slice; the
+          // dofs of a node are numbered together, x before y
           double moment = 0.;
           for (const auto i : DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {wall_id}))
             {
-              const Point<dim> &x = dof_point[i];
+              const Point<dim> &X = dof_point[i];
               if (dof_component[i] == 0)
-                moment -= x[1] * unconstrained_residual[i];
+                moment -= (X[1] + U[i + 1]) * unconstrained_residual[i];
               else if (dof_component[i] == 1)
-                moment += x[0] * unconstrained_residual[i];
+                moment += (X[0] + U[i - 1]) * unconstrained_residual[i];
             }
           moment /= prm.geometry.slice_angle * M_PI / 180.;
           return moment / (scale.R_i * scale.R_i * scale.H) / (0.5 * scale.P_wall);
