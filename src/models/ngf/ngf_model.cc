@@ -593,6 +593,8 @@ namespace granflow::ngf
                   break;
                 }
             }
+          if (alpha < 1.)
+            log.table() << std::setw(36) << "line search step" << std::setw(12) << alpha << '\n';
         }
     }
 
