@@ -22,15 +22,17 @@ namespace granflow
   } // namespace
 
   OutputDirectory::OutputDirectory(const std::string &path)
-    : final_path(normalised(path).string())
-    , root((normalised(path).parent_path() / ("." + normalised(path).filename().string() + ".staging"))
-             .string())
+      : final_path(normalised(path).string())
+      , root((normalised(path).parent_path() /
+              ("." + normalised(path).filename().string() + ".staging"))
+                 .string())
   {
     std::error_code ec;
     fs::remove_all(root, ec);
     fs::create_directories(fs::path(root) / "profiles", ec);
     if (ec)
-      throw InputError("--output " + path + ": cannot create the output directory (" + ec.message() + ")");
+      throw InputError("--output " + path + ": cannot create the output directory (" +
+                       ec.message() + ")");
   }
 
   OutputDirectory::~OutputDirectory()
@@ -85,8 +87,7 @@ namespace granflow
   }
 
   void
-  OutputDirectory::write_csv(const std::string                      &name,
-                             const std::vector<std::string>         &header,
+  OutputDirectory::write_csv(const std::string &name, const std::vector<std::string> &header,
                              const std::vector<std::vector<double>> &columns) const
   {
     std::ostringstream s;

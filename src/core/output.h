@@ -1,5 +1,5 @@
-// The output directory (DESIGN.md "Output directory"): summary.json, profiles/*.csv, log.txt and the
-// VTU/PVD files. All writing of CSV and JSON lives here. A run writes into a staging directory
+// The output directory (DESIGN.md "Output directory"): summary.json, profiles/*.csv, log.txt and
+// the VTU/PVD files. All writing of CSV and JSON lives here. A run writes into a staging directory
 // beside the target; commit() moves its files into the target. A run that ends in bad input never
 // commits, so nothing a user already has in the target is lost or left half-written.
 #pragma once
@@ -21,7 +21,8 @@ namespace granflow
     /// Removes the staging directory unless committed.
     ~OutputDirectory();
     OutputDirectory(const OutputDirectory &) = delete;
-    OutputDirectory &operator=(const OutputDirectory &) = delete;
+    OutputDirectory &
+    operator=(const OutputDirectory &) = delete;
 
     /// Moves every staged file into the target directory (replacing files of the same name).
     void
@@ -51,11 +52,11 @@ namespace granflow
 
     /// CSV with a header row; columns[0] is the coordinate along the line.
     void
-    write_csv(const std::string                      &name,
-              const std::vector<std::string>         &header,
+    write_csv(const std::string &name, const std::vector<std::string> &header,
               const std::vector<std::vector<double>> &columns) const;
 
-    /// solution-0000.vtu from `data_out` (patches already built) and the solution.pvd that lists it.
+    /// solution-0000.vtu from `data_out` (patches already built) and the solution.pvd that lists
+    /// it.
     template <int dim>
     void
     write_solution(const dealii::DataOutInterface<dim, dim> &data_out) const;

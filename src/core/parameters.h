@@ -29,8 +29,7 @@ namespace granflow
   /// Parses `case_file` into `prm` (whose entries are already declared), then applies the
   /// overrides. Unknown entries, values outside their range and unreadable files end in InputError.
   void
-  parse_case_file(dealii::ParameterHandler    &prm,
-                  const std::string           &case_file,
+  parse_case_file(dealii::ParameterHandler &prm, const std::string &case_file,
                   const std::vector<Override> &overrides);
 
   /// Declares the entries of a model's Parameters (declare(prm)), parses `case_file` with the

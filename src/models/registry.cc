@@ -19,7 +19,8 @@ namespace granflow
       return (std::filesystem::path("results") / std::filesystem::path(case_file).stem()).string();
     }
 
-    /// Reads, validates, runs and commits one case of a model whose namespace has Parameters and run().
+    /// Reads, validates, runs and commits one case of a model whose namespace has Parameters and
+    /// run().
     template <typename ModelParameters, typename Run>
     nlohmann::json
     run_model(const RunRequest &request, const std::string &model_name, const Run &run)
@@ -31,15 +32,16 @@ namespace granflow
       parameters.case_file = request.case_file;
       parameters.validate();
 
-      const std::string dir =
-        request.output_directory.empty() ? default_output_directory(request.case_file) :
-                                           request.output_directory;
-      OutputDirectory out(dir);
-      Logger          log(out.file("log.txt"), !request.quiet);
+      const std::string  dir = request.output_directory.empty()
+                                   ? default_output_directory(request.case_file)
+                                   : request.output_directory;
+      OutputDirectory    out(dir);
+      Logger             log(out.file("log.txt"), !request.quiet);
       std::ostringstream used;
       prm.print_parameters(used, dealii::ParameterHandler::Text);
       out.write_text("parameters.prm", used.str());
-      log.print("granflow: case " + request.case_file + " (model " + model_name + ") -> " + dir + "\n");
+      log.print("granflow: case " + request.case_file + " (model " + model_name + ") -> " + dir +
+                "\n");
       try
         {
           nlohmann::json summary = run(parameters, out, log).summary;
@@ -59,20 +61,21 @@ namespace granflow
   models()
   {
     static const std::vector<ModelInfo> list = {
-      {"dp",
-       "nonsmooth Drucker-Prager DP(mu, Bi) creeping flow (Daviet & Bertails-Descoubes 2016)",
-       [](dealii::ParameterHandler &prm) {
-         dp::Parameters p;
-         p.declare(prm);
-       },
-       [](const RunRequest &r) { return run_model<dp::Parameters>(r, "dp", dp::run); }},
-      {"ngf",
-       "nonlocal granular fluidity, finite-deformation elasto-viscoplasticity (Henann & Kamrin 2016)",
-       [](dealii::ParameterHandler &prm) {
-         ngf::Parameters p;
-         p.declare(prm);
-       },
-       [](const RunRequest &r) { return run_model<ngf::Parameters>(r, "ngf", ngf::run); }}};
+        {"dp",
+         "nonsmooth Drucker-Prager DP(mu, Bi) creeping flow (Daviet & Bertails-Descoubes 2016)",
+         [](dealii::ParameterHandler &prm) {
+           dp::Parameters p;
+           p.declare(prm);
+         },
+         [](const RunRequest &r) { return run_model<dp::Parameters>(r, "dp", dp::run); }},
+        {"ngf",
+         "nonlocal granular fluidity, finite-deformation elasto-viscoplasticity (Henann & Kamrin "
+         "2016)",
+         [](dealii::ParameterHandler &prm) {
+           ngf::Parameters p;
+           p.declare(prm);
+         },
+         [](const RunRequest &r) { return run_model<ngf::Parameters>(r, "ngf", ngf::run); }}};
     return list;
   }
 
@@ -86,6 +89,7 @@ namespace granflow
     std::string known;
     for (const auto &m : models())
       known += (known.empty() ? "" : ", ") + m.name;
-    throw InputError(request.case_file, "Model", "unknown model '" + name + "': expected one of " + known);
+    throw InputError(request.case_file, "Model",
+                     "unknown model '" + name + "': expected one of " + known);
   }
 } // namespace granflow

@@ -22,14 +22,14 @@ namespace granflow::rheology
           Eigen e;
           for (unsigned int a = 0; a < 3; ++a)
             {
-              e[a].first            = A[a][a];
-              e[a].second           = dealii::Tensor<1, 3>();
-              e[a].second[a]        = 1.;
+              e[a].first     = A[a][a];
+              e[a].second    = dealii::Tensor<1, 3>();
+              e[a].second[a] = 1.;
             }
           return e;
         }
-      // A non-finite tensor (from a diverging Newton iterate) gives non-finite eigenpairs, so that the
-      // caller sees a non-finite residual and cuts the step instead of stopping in deal.II.
+      // A non-finite tensor (from a diverging Newton iterate) gives non-finite eigenpairs, so that
+      // the caller sees a non-finite residual and cuts the step instead of stopping in deal.II.
       Eigen nan;
       for (auto &e : nan)
         e.first = std::numeric_limits<double>::quiet_NaN();
@@ -81,36 +81,37 @@ namespace granflow::rheology
     SymmetricFunction
     log_from_eigen(const Eigen &e, const bool with_derivative)
     {
-    std::array<double, 3>  f;
-    for (unsigned int a = 0; a < 3; ++a)
-      f[a] = std::log(e[a].first);
+      std::array<double, 3> f;
+      for (unsigned int a = 0; a < 3; ++a)
+        f[a] = std::log(e[a].first);
 
-    SymmetricFunction r;
-    r.value = spectral_sum(e, f);
-    if (!with_derivative)
+      SymmetricFunction r;
+      r.value = spectral_sum(e, f);
+      if (!with_derivative)
+        return r;
+      // d f(A) : dA = sum_ab theta_ab (n_a . dA n_b) n_a (x) n_b, theta_aa = f'(lambda_a),
+      // theta_ab = (f(lambda_a) - f(lambda_b)) / (lambda_a - lambda_b): the classical derivative of
+      // an isotropic tensor function (de Souza Neto et al. 2008, Appendix A), smooth at equal
+      // eigenvalues.
+      for (unsigned int a = 0; a < 3; ++a)
+        for (unsigned int b = 0; b < 3; ++b)
+          {
+            const double theta = log_divided_difference(e[a].first, e[b].first);
+            const auto  &na    = e[a].second;
+            const auto  &nb    = e[b].second;
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int j = i; j < 3; ++j)
+                for (unsigned int k = 0; k < 3; ++k)
+                  for (unsigned int l = k; l < 3; ++l)
+                    {
+                      // symmetrised in (i, j) and (k, l); the sum over (a, b) symmetrises the rest
+                      const double v = 0.5 * (na[i] * nb[j] + nb[i] * na[j]) * 0.5 *
+                                       (na[k] * nb[l] + nb[k] * na[l]);
+                      r.derivative[i][j][k][l] += theta * v;
+                    }
+          }
       return r;
-    // d f(A) : dA = sum_ab theta_ab (n_a . dA n_b) n_a (x) n_b, theta_aa = f'(lambda_a),
-    // theta_ab = (f(lambda_a) - f(lambda_b)) / (lambda_a - lambda_b): the classical derivative of an
-    // isotropic tensor function (de Souza Neto et al. 2008, Appendix A), smooth at equal eigenvalues.
-    for (unsigned int a = 0; a < 3; ++a)
-      for (unsigned int b = 0; b < 3; ++b)
-        {
-          const double theta = log_divided_difference(e[a].first, e[b].first);
-          const auto  &na    = e[a].second;
-          const auto  &nb    = e[b].second;
-          for (unsigned int i = 0; i < 3; ++i)
-            for (unsigned int j = i; j < 3; ++j)
-              for (unsigned int k = 0; k < 3; ++k)
-                for (unsigned int l = k; l < 3; ++l)
-                  {
-                    // symmetrised in (i, j) and (k, l); the sum over (a, b) symmetrises the rest
-                    const double v = 0.5 * (na[i] * nb[j] + nb[i] * na[j]) * 0.5 *
-                                     (na[k] * nb[l] + nb[k] * na[l]);
-                    r.derivative[i][j][k][l] += theta * v;
-                  }
-        }
-    return r;
-  }
+    }
   } // namespace
 
   SymmetricFunction
@@ -142,7 +143,8 @@ namespace granflow::rheology
     };
 
     Trial
-    trial_state(const Tensor2 &F, const Tensor2 &Fp_n, const ElasticModuli &moduli, const bool with_tangents)
+    trial_state(const Tensor2 &F, const Tensor2 &Fp_n, const ElasticModuli &moduli,
+                const bool with_tangents)
     {
       Trial t;
       t.Fe      = F * dealii::invert(Fp_n);
@@ -157,8 +159,8 @@ namespace granflow::rheology
     }
 
     /// Step 5 (64): F^p_{n+1} = F^e_{n+1}^{-1} F with F^e_{n+1} = exp(-dt Dbar^p) F^e_tr and
-    /// dt Dbar^p = (taubar_tr - taubar) Nbar_tr / (sqrt(2) S) = (1 - ratio) dev(Ebar_tr), coaxial with
-    /// B^e_tr, so its exponential reuses the eigenvectors.
+    /// dt Dbar^p = (taubar_tr - taubar) Nbar_tr / (sqrt(2) S) = (1 - ratio) dev(Ebar_tr), coaxial
+    /// with B^e_tr, so its exponential reuses the eigenvectors.
     Tensor2
     plastic_distortion(const Trial &t, const double ratio, const Tensor2 &F)
     {
@@ -169,8 +171,8 @@ namespace granflow::rheology
       return dealii::invert(Tensor2(spectral_sum(t.eigen_B, f)) * t.Fe) * F;
     }
 
-    /// (68)-(69): C_ijkl = (1/J) sum_q (D : L)_ijkq B_ql - T_il delta_jk, with dEbar = L : dB / 2 and
-    /// dB_pq = dL_pk B_kq + B_pk dL_qk for dF = dL F.
+    /// (68)-(69): C_ijkl = (1/J) sum_q (D : L)_ijkq B_ql - T_il delta_jk, with dEbar = L : dB / 2
+    /// and dB_pq = dL_pk B_kq + B_pk dL_qk for dF = dL F.
     Tensor4
     spatial_tangent(const SymTensor4 &D, const Trial &t, const SymTensor2 &T, const double J)
     {
@@ -191,13 +193,9 @@ namespace granflow::rheology
   } // namespace
 
   NonlocalPointUpdate
-  nonlocal_update(const Tensor2            &F,
-                  const Tensor2            &Fp_n,
-                  const double              g,
-                  const double              dt,
-                  const ElasticModuli      &moduli,
-                  const NonlocalParameters &material,
-                  const bool                with_tangents)
+  nonlocal_update(const Tensor2 &F, const Tensor2 &Fp_n, const double g, const double dt,
+                  const ElasticModuli &moduli, const NonlocalParameters &material,
+                  const bool with_tangents)
   {
     const double S = moduli.S, B = moduli.B;
     const auto   I = dealii::unit_symmetric_tensor<3>();
@@ -206,19 +204,20 @@ namespace granflow::rheology
     r.J = dealii::determinant(F);
 
     // Steps 1-3 (60)-(62), rotated to the spatial frame (71)-(72).
-    const Trial       trial  = trial_state(F, Fp_n, moduli, with_tangents);
-    const double      p_tr   = trial.p, tau_tr = trial.tau;
-    const SymTensor2 &s_tr   = trial.s;
+    const Trial       trial = trial_state(F, Fp_n, moduli, with_tangents);
+    const double      p_tr = trial.p, tau_tr = trial.tau;
+    const SymTensor2 &s_tr = trial.s;
 
     // Step 4 (63) with the guards of the header: p = max(p_tr, 0), g_+ = max(g, 0).
     const bool   compressed = p_tr > 0.;
     const double p          = compressed ? p_tr : 0.;
     // g = 0 counts as flowing, so the tangent at the onset of flow carries d(mu)/dg (the right
     // derivative of max(g, 0)); otherwise Newton started from g = 0 cannot see the relaxation.
-    const bool   flowing    = g >= 0.;
-    const double g_plus     = flowing ? g : 0.;
-    const double den        = p + S * dt * g_plus; // (56): taubar = taubar_tr p / den
-    const double ratio      = den > 0. ? p / den : 1.; // taubar / taubar_tr = d taubar / d taubar_tr (79)_1
+    const bool   flowing = g >= 0.;
+    const double g_plus  = flowing ? g : 0.;
+    const double den     = p + S * dt * g_plus; // (56): taubar = taubar_tr p / den
+    const double ratio =
+        den > 0. ? p / den : 1.; // taubar / taubar_tr = d taubar / d taubar_tr (79)_1
 
     r.p   = p;
     r.tau = ratio * tau_tr;
@@ -232,10 +231,10 @@ namespace granflow::rheology
     r.Fp          = plastic_distortion(trial, ratio, F);
 
     // Step 6 (65).
-    const auto gl = local_fluidity(p, r.mu, material);
-    const auto xi = cooperativity_length(r.mu, material);
-    r.g_loc       = gl.value;
-    r.xi          = xi.value;
+    const auto gl    = local_fluidity(p, r.mu, material);
+    const auto xi    = cooperativity_length(r.mu, material);
+    r.g_loc          = gl.value;
+    r.xi             = xi.value;
     const double xi2 = xi.value * xi.value;
     r.g_res          = (g - gl.value) / xi2;
 
@@ -244,10 +243,11 @@ namespace granflow::rheology
 
     // Derivatives of g_res(taubar_tr, p, g) with mu = taubar_tr / den (equivalent to (87)-(89),
     // written in taubar_tr instead of taubar_{n+1}).
-    const double dgres_dmu = den > 0. ? -gl.d_mu / xi2 - 2. * (g - gl.value) * xi.d_mu / (xi2 * xi.value) : 0.;
-    const double dmu_dtau_tr = den > 0. ? 1. / den : 0.;
-    const double dmu_dp      = den > 0. ? -r.mu / den : 0.;
-    const double dmu_dg      = den > 0. && flowing ? -r.mu * S * dt / den : 0.;
+    const double dgres_dmu =
+        den > 0. ? -gl.d_mu / xi2 - 2. * (g - gl.value) * xi.d_mu / (xi2 * xi.value) : 0.;
+    const double dmu_dtau_tr   = den > 0. ? 1. / den : 0.;
+    const double dmu_dp        = den > 0. ? -r.mu / den : 0.;
+    const double dmu_dg        = den > 0. && flowing ? -r.mu * S * dt / den : 0.;
     const double dgres_dtau_tr = dgres_dmu * dmu_dtau_tr;
     const double dgres_dp      = compressed ? -gl.d_p / xi2 + dgres_dmu * dmu_dp : 0.;
     // (89) plus the explicit 1/xi^2 that the transcription drops.
@@ -261,9 +261,10 @@ namespace granflow::rheology
     // (78) with taubar/taubar_tr = d taubar / d taubar_tr, so its N (x) N term vanishes:
     // D = 2 S ratio (I - 1 (x) 1 / 3) + B 1 (x) 1 - sqrt(2) B (d taubar / d p_tr) Nbar (x) 1, and
     // sqrt(2) (d taubar / d p_tr) Nbar = d ratio / dp * s_tr with d ratio / dp = S dt g_+ / den^2.
-    const double dratio_dp = den > 0. && compressed ? S * dt * g_plus / (den * den) : 0.;
-    const SymTensor4 D = 2. * S * ratio * (dealii::identity_tensor<3>() - dealii::outer_product(I, I) / 3.) +
-                         B * dealii::outer_product(I, I) - B * dratio_dp * dealii::outer_product(s_tr, I);
+    const double     dratio_dp = den > 0. && compressed ? S * dt * g_plus / (den * den) : 0.;
+    const SymTensor4 D =
+        2. * S * ratio * (dealii::identity_tensor<3>() - dealii::outer_product(I, I) / 3.) +
+        B * dealii::outer_product(I, I) - B * dratio_dp * dealii::outer_product(s_tr, I);
 
     // (82)-(83): Lambda = dT/dg = (1/J) (d ratio / dg) s_tr, d ratio / dg = -p S dt / den^2.
     const double dratio_dg = den > 0. && flowing ? -p * S * dt / (den * den) : 0.;
@@ -276,28 +277,25 @@ namespace granflow::rheology
   }
 
   NonlocalPointUpdate
-  local_update(const Tensor2            &F,
-               const Tensor2            &Fp_n,
-               const double              dt,
-               const ElasticModuli      &moduli,
-               const NonlocalParameters &material,
-               const bool                with_tangents)
+  local_update(const Tensor2 &F, const Tensor2 &Fp_n, const double dt, const ElasticModuli &moduli,
+               const NonlocalParameters &material, const bool with_tangents)
   {
     const double S = moduli.S, B = moduli.B;
     const auto   I = dealii::unit_symmetric_tensor<3>();
 
     NonlocalPointUpdate r;
     r.J                = dealii::determinant(F);
-    const Trial trial  = trial_state(F, Fp_n, moduli, with_tangents);
-    const double p     = std::max(trial.p, 0.), tau_tr = trial.tau;
-    const double mu_s  = material.mu_s;
+    const Trial  trial = trial_state(F, Fp_n, moduli, with_tangents);
+    const double p = std::max(trial.p, 0.), tau_tr = trial.tau;
+    const double mu_s = material.mu_s;
     // (1): gamma_dot^p = sqrt(p / (rho_s d^2)) (mu - mu_s) / b for mu > mu_s. With (55)_1,
     // taubar + S dt gamma_dot^p(taubar / p) = taubar_tr is linear in taubar:
     // taubar = (taubar_tr + k mu_s p) / (1 + k), k = S dt / (b d sqrt(rho_s p)).
     const bool   flowing = p > 0. && tau_tr > mu_s * p;
-    const double k       = flowing ? S * dt / (material.b * material.d * std::sqrt(material.rho_s * p)) : 0.;
-    const double tau     = flowing ? (tau_tr + k * mu_s * p) / (1. + k) : tau_tr;
-    const double ratio   = tau_tr > 0. ? tau / tau_tr : 1.;
+    const double k =
+        flowing ? S * dt / (material.b * material.d * std::sqrt(material.rho_s * p)) : 0.;
+    const double tau   = flowing ? (tau_tr + k * mu_s * p) / (1. + k) : tau_tr;
+    const double ratio = tau_tr > 0. ? tau / tau_tr : 1.;
 
     r.p           = p;
     r.tau         = tau;
@@ -310,10 +308,12 @@ namespace granflow::rheology
       return r;
 
     // D = dT^K/dEbar = B 1 (x) 1 + 2 S ratio I_dev + s_tr (x) d ratio/dEbar, with
-    // d ratio / d taubar_tr = -k mu_s p / ((1 + k) taubar_tr^2), d taubar_tr / dEbar = S s_tr / taubar_tr,
-    // d taubar / dp = (k / 2) (mu_s + taubar / p) / (1 + k) (dk/dp = -k / (2 p)), dp / dEbar = -B 1.
-    SymTensor4 D = 2. * S * ratio * (dealii::identity_tensor<3>() - dealii::outer_product(I, I) / 3.) +
-                   B * dealii::outer_product(I, I);
+    // d ratio / d taubar_tr = -k mu_s p / ((1 + k) taubar_tr^2), d taubar_tr / dEbar = S s_tr /
+    // taubar_tr, d taubar / dp = (k / 2) (mu_s + taubar / p) / (1 + k) (dk/dp = -k / (2 p)), dp /
+    // dEbar = -B 1.
+    SymTensor4 D =
+        2. * S * ratio * (dealii::identity_tensor<3>() - dealii::outer_product(I, I) / 3.) +
+        B * dealii::outer_product(I, I);
     if (flowing)
       {
         const double dratio_dtau_tr = -k * mu_s * p / ((1. + k) * tau_tr * tau_tr);

@@ -40,54 +40,49 @@ namespace granflow::rheology
   /// Shear modulus S and bulk modulus B of the Gibbs energy (12): M^e = C[E^e] (14).
   struct ElasticModuli
   {
-    double S = 1e6;  ///< [Pa], > 0
-    double B = 1e7;  ///< [Pa], > 0
+    double S = 1e6; ///< [Pa], > 0
+    double B = 1e7; ///< [Pa], > 0
   };
 
   /// State at t_{n+1} of one material point, and the consistent tangents of Section 5.
   struct NonlocalPointUpdate
   {
-    Tensor2    Fp;          ///< F^p_{n+1} (64)_3
-    SymTensor2 T;           ///< Cauchy stress (63)_4
-    double     J = 1.;      ///< det F_{n+1}
-    double     p = 0.;      ///< pbar_tr = pbar_{n+1} (52)_2, from the Mandel stress
-    double     tau = 0.;    ///< taubar_{n+1} (63)_1
-    double     mu = 0.;     ///< mu_{n+1} = taubar / pbar (63)_2
+    Tensor2    Fp;               ///< F^p_{n+1} (64)_3
+    SymTensor2 T;                ///< Cauchy stress (63)_4
+    double     J           = 1.; ///< det F_{n+1}
+    double     p           = 0.; ///< pbar_tr = pbar_{n+1} (52)_2, from the Mandel stress
+    double     tau         = 0.; ///< taubar_{n+1} (63)_1
+    double     mu          = 0.; ///< mu_{n+1} = taubar / pbar (63)_2
     double     gamma_dot_p = 0.; ///< (64)_1
-    double     g_loc = 0.;  ///< (65)_1
-    double     xi = 0.;     ///< (65)_2 with the cap
-    double     g_res = 0.;  ///< (85)_2: (g - g_loc) / xi^2
+    double     g_loc       = 0.; ///< (65)_1
+    double     xi          = 0.; ///< (65)_2 with the cap
+    double     g_res       = 0.; ///< (85)_2: (g - g_loc) / xi^2
 
     /// (67)-(68): C_ijkl = (1/J) F_lq dT^K_ij/dF_kq - T_il delta_jk. For a spatial perturbation
-    /// dF = dL F: C_ijkl dL_kl = (1/J) dT^K_ij - T_il dL_jl (the dT_ij of (66) in the current frame).
+    /// dF = dL F: C_ijkl dL_kl = (1/J) dT^K_ij - T_il dL_jl (the dT_ij of (66) in the current
+    /// frame).
     Tensor4    C;
-    SymTensor2 Lambda;      ///< (81)-(82): dT/dg at fixed F
-    Tensor2    dgres_dL;    ///< F_lq d g_res / dF_kq ((85)_1 without the g_res delta_kl of dv)
+    SymTensor2 Lambda;        ///< (81)-(82): dT/dg at fixed F
+    Tensor2    dgres_dL;      ///< F_lq d g_res / dF_kq ((85)_1 without the g_res delta_kl of dv)
     double     dgres_dg = 0.; ///< d g_res / d g at fixed F (89), with the explicit 1/xi^2 term
   };
 
-  /// Henann Section 4, Steps 1-6: given F_{n+1}, g_{n+1} and F^p_n, the state at t_{n+1} = t_n + dt.
-  /// Guards the paper does not need to state (its solutions have pbar > 0 and g >= 0):
+  /// Henann Section 4, Steps 1-6: given F_{n+1}, g_{n+1} and F^p_n, the state at t_{n+1} = t_n +
+  /// dt. Guards the paper does not need to state (its solutions have pbar > 0 and g >= 0):
   /// - pbar_tr <= 0 (tension): (56) and (22) use pbar = 0, i.e. no shear strength and g_loc = 0;
-  /// - g < 0 (a Newton iterate, or a discrete undershoot): the flow rule (18) uses max(g, 0), so the
+  /// - g < 0 (a Newton iterate, or a discrete undershoot): the flow rule (18) uses max(g, 0), so
+  /// the
   ///   plastic flow never reverses the stress, while g_res (85) keeps the actual g; at g = 0 the
   ///   tangents are the right derivatives.
   NonlocalPointUpdate
-  nonlocal_update(const Tensor2            &F,
-                  const Tensor2            &Fp_n,
-                  double                    g,
-                  double                    dt,
-                  const ElasticModuli      &moduli,
-                  const NonlocalParameters &material,
-                  bool                      with_tangents = true);
+  nonlocal_update(const Tensor2 &F, const Tensor2 &Fp_n, double g, double dt,
+                  const ElasticModuli &moduli, const NonlocalParameters &material,
+                  bool with_tangents = true);
   /// The local variant (Henann 6.3, Fig. 7): g = g_loc, no fluidity unknown. The update (55)_1 with
-  /// the local flow rule (1) is linear in taubar and solved in closed form; C (68) is its consistent
-  /// tangent. g_loc holds the resulting fluidity gamma_dot^p / mu; g_res, Lambda and dgres_* are zero.
+  /// the local flow rule (1) is linear in taubar and solved in closed form; C (68) is its
+  /// consistent tangent. g_loc holds the resulting fluidity gamma_dot^p / mu; g_res, Lambda and
+  /// dgres_* are zero.
   NonlocalPointUpdate
-  local_update(const Tensor2            &F,
-               const Tensor2            &Fp_n,
-               double                    dt,
-               const ElasticModuli      &moduli,
-               const NonlocalParameters &material,
-               bool                      with_tangents = true);
+  local_update(const Tensor2 &F, const Tensor2 &Fp_n, double dt, const ElasticModuli &moduli,
+               const NonlocalParameters &material, bool with_tangents = true);
 } // namespace granflow::rheology

@@ -22,11 +22,11 @@ namespace granflow::rheology
   cooperativity_length(const double mu, const NonlocalParameters &m)
   {
     CooperativityLength xi;
-    const double x     = mu - m.mu_s;
-    const double ax    = std::abs(x);
-    const double Ad    = m.A * m.d;
-    const double cap   = m.xi_cap_over_d * m.d;
-    const double x_c   = std::pow(1.25 * Ad / cap, 2);
+    const double        x   = mu - m.mu_s;
+    const double        ax  = std::abs(x);
+    const double        Ad  = m.A * m.d;
+    const double        cap = m.xi_cap_over_d * m.d;
+    const double        x_c = std::pow(1.25 * Ad / cap, 2);
     if (ax >= x_c)
       {
         // (24)

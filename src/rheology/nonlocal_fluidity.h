@@ -5,23 +5,24 @@
 
 namespace granflow::rheology
 {
-  /// Material parameters of the nonlocal rheology (Henann & Kamrin 2016, Section 6 values as defaults).
+  /// Material parameters of the nonlocal rheology (Henann & Kamrin 2016, Section 6 values as
+  /// defaults).
   struct NonlocalParameters
   {
-    double mu_s  = 0.3819; ///< static yield stress ratio, in (0, 1)
-    double b     = 0.9377; ///< rate sensitivity of mu_loc(I) = mu_s + b I, > 0
-    double A     = 0.48;   ///< nonlocal amplitude, > 0
-    double d     = 1e-3;   ///< grain diameter [m], > 0
-    double rho_s = 2450.;  ///< grain material density [kg/m^3], > 0
-    double xi_cap_over_d = 1000.; ///< cap of xi in grain diameters (footnote ||)
+    double mu_s          = 0.3819; ///< static yield stress ratio, in (0, 1)
+    double b             = 0.9377; ///< rate sensitivity of mu_loc(I) = mu_s + b I, > 0
+    double A             = 0.48;   ///< nonlocal amplitude, > 0
+    double d             = 1e-3;   ///< grain diameter [m], > 0
+    double rho_s         = 2450.;  ///< grain material density [kg/m^3], > 0
+    double xi_cap_over_d = 1000.;  ///< cap of xi in grain diameters (footnote ||)
   };
 
   /// g_loc and its partial derivatives with respect to p and mu.
   struct LocalFluidity
   {
-    double value  = 0.;
-    double d_p    = 0.;
-    double d_mu   = 0.;
+    double value = 0.;
+    double d_p   = 0.;
+    double d_mu  = 0.;
   };
 
   /// Henann (22): g_loc = sqrt(p / (rho_s d^2)) (mu - mu_s) / (b mu) if mu > mu_s, else 0.

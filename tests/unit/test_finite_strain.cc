@@ -46,12 +46,19 @@ namespace
   {
     const double p = 350., mu = 0.45;
     const auto   g = local_fluidity(p, mu, glass);
-    EXPECT_NEAR(g.value, std::sqrt(p / (glass.rho_s * glass.d * glass.d)) * (mu - glass.mu_s) / (glass.b * mu),
+    EXPECT_NEAR(g.value,
+                std::sqrt(p / (glass.rho_s * glass.d * glass.d)) * (mu - glass.mu_s) /
+                    (glass.b * mu),
                 1e-12 * g.value);
     const double e = 1e-6;
-    EXPECT_NEAR(g.d_p, (local_fluidity(p + e * p, mu, glass).value - local_fluidity(p - e * p, mu, glass).value) / (2 * e * p),
-                1e-7 * std::abs(g.d_p));
-    EXPECT_NEAR(g.d_mu, (local_fluidity(p, mu + e, glass).value - local_fluidity(p, mu - e, glass).value) / (2 * e),
+    EXPECT_NEAR(
+        g.d_p,
+        (local_fluidity(p + e * p, mu, glass).value - local_fluidity(p - e * p, mu, glass).value) /
+            (2 * e * p),
+        1e-7 * std::abs(g.d_p));
+    EXPECT_NEAR(g.d_mu,
+                (local_fluidity(p, mu + e, glass).value - local_fluidity(p, mu - e, glass).value) /
+                    (2 * e),
                 1e-7 * std::abs(g.d_mu));
     EXPECT_EQ(local_fluidity(p, 0.9 * glass.mu_s, glass).value, 0.);
     EXPECT_EQ(local_fluidity(-1., 0.5, glass).value, 0.);
@@ -72,7 +79,8 @@ namespace
     const auto top = cooperativity_length(glass.mu_s, glass);
     EXPECT_NEAR(top.value, 1000. * glass.d, 1e-12);
     EXPECT_EQ(top.d_mu, 0.);
-    // C^1 at the junction x_c = (5 A / 4000)^2 and the cap only acts within mu_s +- 1e-6 (footnote ||).
+    // C^1 at the junction x_c = (5 A / 4000)^2 and the cap only acts within mu_s +- 1e-6 (footnote
+    // ||).
     const double x_c = std::pow(1.25 * glass.A / 1000., 2);
     EXPECT_LT(x_c, 1e-6);
     for (const double s : {-1., 1.})
@@ -88,7 +96,7 @@ namespace
   random_spd(std::mt19937 &rng, double spread)
   {
     std::uniform_real_distribution<double> u(-1., 1.);
-    Tensor2                                 M;
+    Tensor2                                M;
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = 0; j < 3; ++j)
         M[i][j] = (i == j ? 1. : 0.) + spread * u(rng);
@@ -107,7 +115,8 @@ namespace
           dA[k][l]         = 1.; // the symmetric perturbation E_kl + E_lk (k != l) or E_kk
           const auto fd    = (log_sym(A + e * dA).value - log_sym(A - e * dA).value) / (2 * e);
           const auto exact = r.derivative * dA;
-          EXPECT_LT((fd - exact).norm(), 1e-7 * (1. + exact.norm())) << "A = " << A << ", kl = " << k << l;
+          EXPECT_LT((fd - exact).norm(), 1e-7 * (1. + exact.norm()))
+              << "A = " << A << ", kl = " << k << l;
         }
   }
 
@@ -128,7 +137,7 @@ namespace
     near[1][2] = 3e-10;
     expect_log_derivative_matches_fd(near);
     SymTensor2 two_equal = 2. * I;
-    two_equal[2][2] = 3.;
+    two_equal[2][2]      = 3.;
     expect_log_derivative_matches_fd(two_equal);
   }
 
@@ -149,7 +158,8 @@ namespace
     Fs[0][0] = Fs[1][1] = Fs[2][2] = 1. - 2e-5;
     const double g = 0.3, dt = 1e-3;
     const auto   s = nonlocal_update(Fs, dealii::unit_symmetric_tensor<3>(), g, dt, moduli, glass);
-    const auto   trial = nonlocal_update(Fs, dealii::unit_symmetric_tensor<3>(), 0., dt, moduli, glass);
+    const auto   trial =
+        nonlocal_update(Fs, dealii::unit_symmetric_tensor<3>(), 0., dt, moduli, glass);
     const double tau_tr = trial.tau, p_tr = trial.p;
     EXPECT_NEAR(s.p, p_tr, 1e-10 * p_tr);
     EXPECT_NEAR(s.tau, tau_tr * p_tr / (p_tr + moduli.S * dt * g), 1e-10 * tau_tr);
@@ -161,9 +171,9 @@ namespace
   {
     // Simple shear at rate gamma_dot under a fixed fluidity: once the elastic strain is steady the
     // plastic rate equals the applied rate, so (20) demands g mu = gamma_dot.
-    const double gamma_dot = 0.5, g = 2.0, dt = 2e-4;
-    const double pressure_strain = -1e-4; // volumetric compression: p = B 3e-4 / 3 ~ 1 kPa
-    Tensor2      Fp = dealii::unit_symmetric_tensor<3>();
+    const double        gamma_dot = 0.5, g = 2.0, dt = 2e-4;
+    const double        pressure_strain = -1e-4; // volumetric compression: p = B 3e-4 / 3 ~ 1 kPa
+    Tensor2             Fp              = dealii::unit_symmetric_tensor<3>();
     NonlocalPointUpdate r;
     for (int n = 1; n <= 400; ++n)
       {
@@ -189,7 +199,7 @@ namespace
   make_state(std::mt19937 &rng, double shear, double g, double dt)
   {
     std::uniform_real_distribution<double> u(-1., 1.);
-    SymTensor2                              Ee;
+    SymTensor2                             Ee;
     for (unsigned int i = 0; i < 3; ++i)
       for (unsigned int j = i; j < 3; ++j)
         Ee[i][j] = shear * u(rng);
@@ -207,7 +217,8 @@ namespace
     Tensor2      K;
     K[0][1] = -w[2] / th, K[0][2] = w[1] / th, K[1][2] = -w[0] / th;
     K[1][0] = -K[0][1], K[2][0] = -K[0][2], K[2][1] = -K[1][2];
-    const Tensor2 R = Tensor2(dealii::unit_symmetric_tensor<3>()) + std::sin(th) * K + (1. - std::cos(th)) * K * K;
+    const Tensor2 R = Tensor2(dealii::unit_symmetric_tensor<3>()) + std::sin(th) * K +
+                      (1. - std::cos(th)) * K * K;
     const Tensor2 Fp = Tensor2(exp_sym(Ep));
     return {R * Tensor2(exp_sym(Ee)) * Fp, Fp, g, dt};
   }
@@ -220,10 +231,10 @@ namespace
   std::pair<SymTensor2, double>
   derivative(const Perturbed &at, double e)
   {
-    const double     w[4] = {1., -8., 8., -1.};
-    const double     h[4] = {-2., -1., 1., 2.};
-    SymTensor2       dTK;
-    double           dgres = 0.;
+    const double w[4] = {1., -8., 8., -1.};
+    const double h[4] = {-2., -1., 1., 2.};
+    SymTensor2   dTK;
+    double       dgres = 0.;
     for (int n = 0; n < 4; ++n)
       {
         const NonlocalPointUpdate r = at(h[n] * e);
@@ -241,10 +252,12 @@ namespace
       for (unsigned int l = 0; l < 3; ++l)
         {
           // the spatial perturbation dF = dL F with dL = E_kl
-          const Tensor2 dF = unit(k, l) * s.F;
+          const Tensor2 dF        = unit(k, l) * s.F;
           const auto [dTK, dgres] = derivative(
-            [&](double e) { return nonlocal_update(s.F + e * dF, s.Fp_n, s.g, s.dt, moduli, glass, false); },
-            1e-8);
+              [&](double e) {
+                return nonlocal_update(s.F + e * dF, s.Fp_n, s.g, s.dt, moduli, glass, false);
+              },
+              1e-8);
           for (unsigned int i = 0; i < 3; ++i)
             for (unsigned int j = 0; j < 3; ++j)
               C_fd[i][j][k][l] = dTK[i][j] / r.J - (j == k ? r.T[i][l] : 0.);
@@ -264,10 +277,12 @@ namespace
     EXPECT_LT((r.dgres_dL - dgres_fd).norm(), 1e-7 * dgres_fd.norm()) << what << ": dg_res/dF (86)";
 
     const auto [dTK_dg, dgres_dg_fd] = derivative(
-      [&](double e) { return nonlocal_update(s.F, s.Fp_n, s.g + e, s.dt, moduli, glass, false); }, 1e-4 * s.g);
+        [&](double e) { return nonlocal_update(s.F, s.Fp_n, s.g + e, s.dt, moduli, glass, false); },
+        1e-4 * s.g);
     const SymTensor2 Lambda_fd = dTK_dg / r.J;
     EXPECT_LT((r.Lambda - Lambda_fd).norm(), 1e-7 * Lambda_fd.norm()) << what << ": Lambda (82)";
-    EXPECT_NEAR(r.dgres_dg, dgres_dg_fd, 1e-7 * std::abs(dgres_dg_fd)) << what << ": dg_res/dg (89)";
+    EXPECT_NEAR(r.dgres_dg, dgres_dg_fd, 1e-7 * std::abs(dgres_dg_fd))
+        << what << ": dg_res/dg (89)";
   }
 
   TEST(FiniteStrain, ConsistentTangentsMatchFiniteDifferences)
@@ -283,12 +298,14 @@ namespace
         expect_tangents_match_fd(above, "above mu_s");
 
         const State below = make_state(rng, 2e-5, 0.05, 1e-3);
-        ASSERT_LT(nonlocal_update(below.F, below.Fp_n, below.g, below.dt, moduli, glass).mu, glass.mu_s);
+        ASSERT_LT(nonlocal_update(below.F, below.Fp_n, below.g, below.dt, moduli, glass).mu,
+                  glass.mu_s);
         expect_tangents_match_fd(below, "below mu_s");
 
         const State elastic = make_state(rng, 1e-4, 0., 1e-3);
-        const auto  r       = nonlocal_update(elastic.F, elastic.Fp_n, 0., elastic.dt, moduli, glass);
-        EXPECT_LT(max_abs(r.C - C_by_differences(elastic, r)), 1e-7 * max_abs(r.C)) << "elastic: C (68)";
+        const auto  r = nonlocal_update(elastic.F, elastic.Fp_n, 0., elastic.dt, moduli, glass);
+        EXPECT_LT(max_abs(r.C - C_by_differences(elastic, r)), 1e-7 * max_abs(r.C))
+            << "elastic: C (68)";
       }
   }
 } // namespace
@@ -312,7 +329,10 @@ namespace
             {
               const Tensor2 dF        = unit(k, l) * s.F;
               const auto [dTK, dgres] = derivative(
-                [&](double e) { return local_update(s.F + e * dF, s.Fp_n, s.dt, moduli, glass, false); }, 1e-8);
+                  [&](double e) {
+                    return local_update(s.F + e * dF, s.Fp_n, s.dt, moduli, glass, false);
+                  },
+                  1e-8);
               (void)dgres;
               for (unsigned int i = 0; i < 3; ++i)
                 for (unsigned int j = 0; j < 3; ++j)
@@ -325,9 +345,10 @@ namespace
 
   TEST(LocalUpdate, SteadySimpleShearFollowsTheLocalRheology)
   {
-    // Simple shear at rate gamma_dot: at steady state (1) gives mu = mu_s + b gamma_dot d sqrt(rho_s / p).
-    const double gamma_dot = 0.5, dt = 2e-4, pressure_strain = -1e-4;
-    Tensor2      Fp = dealii::unit_symmetric_tensor<3>();
+    // Simple shear at rate gamma_dot: at steady state (1) gives mu = mu_s + b gamma_dot d
+    // sqrt(rho_s / p).
+    const double        gamma_dot = 0.5, dt = 2e-4, pressure_strain = -1e-4;
+    Tensor2             Fp = dealii::unit_symmetric_tensor<3>();
     NonlocalPointUpdate r;
     for (int n = 1; n <= 400; ++n)
       {

@@ -32,18 +32,20 @@ namespace
     dealii::FE_Q<dim>     fe(1);
     dealii::QGauss<dim>   quadrature(2);
     dealii::FEValues<dim> values(fe, quadrature,
-                                 dealii::update_values | dealii::update_gradients | dealii::update_JxW_values |
-                                   dealii::update_quadrature_points);
-    dealii::Point<dim> middle;
+                                 dealii::update_values | dealii::update_gradients |
+                                     dealii::update_JxW_values | dealii::update_quadrature_points);
+    dealii::Point<dim>    middle;
     for (unsigned int i = 0; i < dim; ++i)
       middle[i] = 0.5;
     dealii::FEValues<dim> centroid(fe, dealii::Quadrature<dim>(middle),
-                                   dealii::update_values | dealii::update_gradients | dealii::update_quadrature_points);
+                                   dealii::update_values | dealii::update_gradients |
+                                       dealii::update_quadrature_points);
     values.reinit(tria.begin_active());
     centroid.reinit(tria.begin_active());
     // reference gradients as 3-vectors: (d/dX, d/dY, d/dZ), or (d/dR, 0, d/dZ) in the (R, Z) plane
     auto three = [](const Tensor<1, dim> &t) {
-      return dim == 3 ? Tensor<1, 3>({t[0], t[1], t[dim - 1]}) : Tensor<1, 3>({t[0], 0., t[dim - 1]});
+      return dim == 3 ? Tensor<1, 3>({t[0], t[1], t[dim - 1]})
+                      : Tensor<1, 3>({t[0], 0., t[dim - 1]});
     };
     ngf::ElementShape s;
     for (unsigned int q = 0; q < quadrature.size(); ++q)
@@ -69,8 +71,9 @@ namespace
 
   /// Max |J - J_fd| per block over max |J_fd| per block; J_fd by fourth-order central differences.
   void
-  expect_jacobian_matches_differences(const ngf::NonlocalElement &element, const ngf::ElementShape &shape,
-                                      const ngf::ElementInput &in, const double u_step[3])
+  expect_jacobian_matches_differences(const ngf::NonlocalElement &element,
+                                      const ngf::ElementShape &shape, const ngf::ElementInput &in,
+                                      const double u_step[3])
   {
     ngf::ElementOutput out;
     element.evaluate(shape, in, true, out);
@@ -101,18 +104,23 @@ namespace
           }
         for (unsigned int i = 0; i < n; ++i)
           {
-            worst[i % 4][j % 4] = std::max(worst[i % 4][j % 4], std::abs(out.jacobian(i, j) - fd[i]));
+            worst[i % 4][j % 4] =
+                std::max(worst[i % 4][j % 4], std::abs(out.jacobian(i, j) - fd[i]));
             scale[i % 4][j % 4] = std::max(scale[i % 4][j % 4], std::abs(fd[i]));
           }
       }
     // Tolerance: 1e-6 of the block, with a floor of 1e-5 of the largest entry of the same equation
-    // (the differences' noise for blocks that are nearly zero, e.g. the torque's dependence on u_r).
+    // (the differences' noise for blocks that are nearly zero, e.g. the torque's dependence on
+    // u_r).
     for (int bi = 0; bi < 4; ++bi)
       for (int bj = 0; bj < 4; ++bj)
         if (scale[bi][bj] > 0.)
-          EXPECT_LT(worst[bi][bj], 1e-6 * scale[bi][bj] + 1e-5 * *std::max_element(scale[bi], scale[bi] + 4))
-            << "block (" << bi << ", " << bj << "): max error " << worst[bi][bj] << " of max entry " << scale[bi][bj];
-    // every kind of coupling is exercised: displacement-displacement, displacement-fluidity, both ways
+          EXPECT_LT(worst[bi][bj],
+                    1e-6 * scale[bi][bj] + 1e-5 * *std::max_element(scale[bi], scale[bi] + 4))
+              << "block (" << bi << ", " << bj << "): max error " << worst[bi][bj]
+              << " of max entry " << scale[bi][bj];
+    // every kind of coupling is exercised: displacement-displacement, displacement-fluidity, both
+    // ways
     EXPECT_GT(scale[0][0], 0.);
     EXPECT_GT(scale[0][3], 0.);
     EXPECT_GT(scale[3][0], 0.);
@@ -130,8 +138,8 @@ namespace
     return Fp;
   }
 
-  // Moduli softened by `softening` (1: the paper's S = 1 MPa, B = 10 MPa). With the paper's moduli the
-  // stress is 1e-4 of them and the geometric (initial-stress and frame-rotation) terms of the
+  // Moduli softened by `softening` (1: the paper's S = 1 MPa, B = 10 MPa). With the paper's moduli
+  // the stress is 1e-4 of them and the geometric (initial-stress and frame-rotation) terms of the
   // Jacobian are below the test's resolution; softened 100 times, they are 1e-2 of it and tested.
   rheology::ElasticModuli
   moduli(double softening)
@@ -150,14 +158,15 @@ namespace
   }
 
   class NgfElement : public ::testing::TestWithParam<double>
-  {};
+  {
+  };
 
   TEST_P(NgfElement, BrickJacobianMatchesFiniteDifferencesOfTheResidual)
   {
     // a sheared, non-affine brick of about one grain diameter (1 mm); FE_Q(1) node a is vertex a
-    const std::vector<dealii::Point<3>> vertices = {{0, 0, 0},         {1.1e-3, 0, 0.1e-3}, {0.1e-3, 0.9e-3, 0},
-                                                    {1.0e-3, 1e-3, 0}, {0, 0, 1e-3},        {1e-3, 0.1e-3, 1.1e-3},
-                                                    {0, 1e-3, 0.9e-3}, {1.2e-3, 1.1e-3, 1e-3}};
+    const std::vector<dealii::Point<3>> vertices = {
+        {0, 0, 0},    {1.1e-3, 0, 0.1e-3},    {0.1e-3, 0.9e-3, 0}, {1.0e-3, 1e-3, 0},
+        {0, 0, 1e-3}, {1e-3, 0.1e-3, 1.1e-3}, {0, 1e-3, 0.9e-3},   {1.2e-3, 1.1e-3, 1e-3}};
     const double               softening = GetParam();
     const ngf::NonlocalElement element(ngf::Kinematics::brick, moduli(softening), {});
     const ngf::ElementShape    shape = shape_of<3>(vertices);
@@ -165,12 +174,13 @@ namespace
     std::mt19937                           rng(3);
     std::uniform_real_distribution<double> u01(-1., 1.);
     ngf::ElementInput                      in;
-    in.dt         = 2e-3 * softening;
-    in.body_force = Tensor<1, 3>({0., 0., 0.62 * 2450. * 9.81});
+    in.dt                      = 2e-3 * softening;
+    in.body_force              = Tensor<1, 3>({0., 0., 0.62 * 2450. * 9.81});
     const rheology::Tensor2 Fp = plastic_distortion();
     in.Fp_n.assign(shape.JxW.size(), Fp);
     // F = F^e F^p affine, plus a non-affine perturbation of the nodes
-    const rheology::Tensor2 F = rheology::Tensor2(rheology::exp_sym(elastic_strain(softening))) * Fp;
+    const rheology::Tensor2 F =
+        rheology::Tensor2(rheology::exp_sym(elastic_strain(softening))) * Fp;
     for (unsigned int a = 0; a < 8; ++a)
       {
         Tensor<1, 3> u = (F - rheology::Tensor2(dealii::unit_symmetric_tensor<3>())) * vertices[a];
@@ -183,14 +193,16 @@ namespace
     expect_jacobian_matches_differences(element, shape, in, u_step);
   }
 
-  /// F of the quad at reference (R, Z) from the 3D motion x = r e_r(Theta + theta) + z e_z, by central
-  /// differences of x in Cartesian coordinates, rotated to (e_r, e_phi, e_z) x (E_R, E_Theta, E_Z).
+  /// F of the quad at reference (R, Z) from the 3D motion x = r e_r(Theta + theta) + z e_z, by
+  /// central differences of x in Cartesian coordinates, rotated to (e_r, e_phi, e_z) x (E_R,
+  /// E_Theta, E_Z).
   rheology::Tensor2
-  axisymmetric_F_from_motion(const std::function<std::array<double, 3>(double, double)> &field, double R, double Z)
+  axisymmetric_F_from_motion(const std::function<std::array<double, 3>(double, double)> &field,
+                             double R, double Z)
   {
     auto x = [&](const dealii::Point<3> &X) {
       const double Rx = std::hypot(X[0], X[1]), Th = std::atan2(X[1], X[0]);
-      const auto   f  = field(Rx, X[2]); // (u_r, u_z, theta)
+      const auto   f = field(Rx, X[2]); // (u_r, u_z, theta)
       const double r = Rx + f[0], phi = Th + f[2];
       return dealii::Point<3>(r * std::cos(phi), r * std::sin(phi), X[2] + f[1]);
     };
@@ -205,20 +217,23 @@ namespace
         for (unsigned int i = 0; i < 3; ++i)
           F_cart[i][j] = d[i];
       }
-    const double phi = field(R, Z)[2];
+    const double      phi = field(R, Z)[2];
     rheology::Tensor2 Q; // rows: e_r, e_phi, e_z at the current angle phi, in Cartesian components
-    Q[0][0] = std::cos(phi), Q[0][1] = std::sin(phi), Q[1][0] = -std::sin(phi), Q[1][1] = std::cos(phi), Q[2][2] = 1.;
+    Q[0][0] = std::cos(phi), Q[0][1] = std::sin(phi), Q[1][0] = -std::sin(phi),
+    Q[1][1] = std::cos(phi), Q[2][2] = 1.;
     return Q * F_cart; // reference frame at Theta = 0 is Cartesian
   }
 
   TEST(NgfElementKinematics, AxisymmetricKinematicsAreThoseOfTheTwisted3DMotion)
   {
     auto field = [](double R, double Z) {
-      return std::array<double, 3>{{2e-5 * (R - 0.06) + 1e-5 * Z, -3e-5 * Z + 1e-5 * R, 0.3 * (R - 0.06) / 0.02 + 2. * Z}};
+      return std::array<double, 3>{
+          {2e-5 * (R - 0.06) + 1e-5 * Z, -3e-5 * Z + 1e-5 * R, 0.3 * (R - 0.06) / 0.02 + 2. * Z}};
     };
-    const std::vector<dealii::Point<2>> vertices = {{0.06, 0.}, {0.061, 0.}, {0.06, 1e-3}, {0.061, 1e-3}};
-    const ngf::ElementShape             shape = shape_of<2>(vertices);
-    ngf::ElementInput                   in;
+    const std::vector<dealii::Point<2>> vertices = {
+        {0.06, 0.}, {0.061, 0.}, {0.06, 1e-3}, {0.061, 1e-3}};
+    const ngf::ElementShape shape = shape_of<2>(vertices);
+    ngf::ElementInput       in;
     for (const auto &v : vertices)
       {
         const auto f = field(v[0], v[1]);
@@ -228,8 +243,8 @@ namespace
     in.Fp_n.assign(shape.JxW.size(), dealii::unit_symmetric_tensor<3>());
     in.dt = 1e-3;
     // The element's stress at each point is that of the F of the 3D motion (bilinear fields are
-    // exact at the vertices only, so compare at a vertex-like point: a one-point check at q uses the
-    // bilinear interpolant, which is what the element represents).
+    // exact at the vertices only, so compare at a vertex-like point: a one-point check at q uses
+    // the bilinear interpolant, which is what the element represents).
     const ngf::NonlocalElement element(ngf::Kinematics::axisymmetric, {}, {});
     ngf::ElementOutput         out;
     element.evaluate(shape, in, false, out);
@@ -238,7 +253,7 @@ namespace
         // the interpolated field at q
         auto interpolated = [&](double R, double Z) {
           // bilinear interpolation of the nodal values on the rectangle
-          const double s = (R - 0.06) / 0.001, t = Z / 1e-3;
+          const double          s = (R - 0.06) / 0.001, t = Z / 1e-3;
           std::array<double, 3> r{};
           const double          w[4] = {(1 - s) * (1 - t), s * (1 - t), (1 - s) * t, s * t};
           for (unsigned int a = 0; a < 4; ++a)
@@ -249,22 +264,24 @@ namespace
         double Zq = 0.;
         for (unsigned int a = 0; a < 4; ++a)
           Zq += shape.N[q][a] * vertices[a][1];
-        const rheology::Tensor2 F  = axisymmetric_F_from_motion(interpolated, shape.R[q], Zq);
-        const auto              pt = rheology::nonlocal_update(F, dealii::unit_symmetric_tensor<3>(), 0., 1e-3, {}, {});
+        const rheology::Tensor2 F = axisymmetric_F_from_motion(interpolated, shape.R[q], Zq);
+        const auto              pt =
+            rheology::nonlocal_update(F, dealii::unit_symmetric_tensor<3>(), 0., 1e-3, {}, {});
         // F-bar changes the volumetric part only; compare the deviatoric stress
         EXPECT_LT((dealii::deviator(pt.T) - dealii::deviator(out.points[q].T)).norm(),
                   1e-5 * dealii::deviator(pt.T).norm())
-          << "q = " << q;
+            << "q = " << q;
       }
   }
 
   TEST_P(NgfElement, AxisymmetricJacobianMatchesFiniteDifferencesOfTheResidual)
   {
     // a distorted quad at R ~ 60 d in the (R, Z) plane
-    const std::vector<dealii::Point<2>> vertices = {{0.0600, 0.}, {0.0611, 0.0001}, {0.0601, 0.0009}, {0.0610, 0.0011}};
-    const double                        softening = GetParam();
-    const ngf::NonlocalElement          element(ngf::Kinematics::axisymmetric, moduli(softening), {});
-    const ngf::ElementShape             shape = shape_of<2>(vertices);
+    const std::vector<dealii::Point<2>> vertices = {
+        {0.0600, 0.}, {0.0611, 0.0001}, {0.0601, 0.0009}, {0.0610, 0.0011}};
+    const double               softening = GetParam();
+    const ngf::NonlocalElement element(ngf::Kinematics::axisymmetric, moduli(softening), {});
+    const ngf::ElementShape    shape = shape_of<2>(vertices);
 
     std::mt19937                           rng(5);
     std::uniform_real_distribution<double> u01(-1., 1.);
@@ -275,7 +292,8 @@ namespace
     // F^p_n = exp(-E^e) F(x_q), so that the elastic strain is E^e ~ 4e-4 (times the softening)
     for (const auto &v : vertices)
       {
-        in.u.push_back(Tensor<1, 3>({2e-8 * u01(rng), 2e-8 * u01(rng), 0.3 * (v[0] - 0.06) / 0.001 + 0.01 * u01(rng)}));
+        in.u.push_back(Tensor<1, 3>(
+            {2e-8 * u01(rng), 2e-8 * u01(rng), 0.3 * (v[0] - 0.06) / 0.001 + 0.01 * u01(rng)}));
         in.g.push_back(0.2 + 0.1 * u01(rng));
       }
     for (unsigned int q = 0; q < shape.JxW.size(); ++q)
@@ -291,9 +309,11 @@ namespace
           }
         const double      r = R + u_r;
         rheology::Tensor2 F;
-        F[0][0] = 1 + gu_r[0], F[0][2] = gu_r[2], F[1][0] = r * gth[0], F[1][1] = r / R, F[1][2] = r * gth[2];
+        F[0][0] = 1 + gu_r[0], F[0][2] = gu_r[2], F[1][0] = r * gth[0], F[1][1] = r / R,
+        F[1][2] = r * gth[2];
         F[2][0] = gu_z[0], F[2][2] = 1 + gu_z[2];
-        // (det F^p_n = exp(-tr E^e) != 1 here: a state, not a plastic history, to make F^e = exp(E^e))
+        // (det F^p_n = exp(-tr E^e) != 1 here: a state, not a plastic history, to make F^e =
+        // exp(E^e))
         in.Fp_n.push_back(rheology::Tensor2(rheology::exp_sym(-elastic_strain(softening))) * F);
       }
     const double u_step[3] = {1e-11, 1e-11, 1e-10}; // u_r, u_z [m] and theta [rad]

@@ -19,13 +19,14 @@ namespace
   nlohmann::json
   run_cell(const std::string &case_name, const std::string &dir)
   {
-    const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/henann2016/" + case_name + ".prm";
-    const auto        parameters = ngf::load_parameters(case_file, {{"Geometry/Inner radius", "20"},
-                                                                    {"Geometry/Gap", "6"},
-                                                                    {"Geometry/Height", "3"},
-                                                                    {"Geometry/Element size", "0.5"},
-                                                                    {"Loading/Wall rotation", "2"},
-                                                                    {"Output/Write vtu", "false"}});
+    const std::string case_file =
+        std::string(GRANFLOW_SOURCE_DIR) + "/cases/henann2016/" + case_name + ".prm";
+    const auto parameters = ngf::load_parameters(case_file, {{"Geometry/Inner radius", "20"},
+                                                             {"Geometry/Gap", "6"},
+                                                             {"Geometry/Height", "3"},
+                                                             {"Geometry/Element size", "0.5"},
+                                                             {"Loading/Wall rotation", "2"},
+                                                             {"Output/Write vtu", "false"}});
     std::filesystem::remove_all(dir);
     OutputDirectory out(dir);
     Logger          log(out.file("log.txt"), false);
@@ -52,7 +53,8 @@ namespace
       }
     RecordProperty("max_surface_velocity_difference", std::to_string(worst));
     EXPECT_LE(worst, 0.02);
-    const double W_quad = quad["shear_band_width_over_d"], W_slice = slice["shear_band_width_over_d"];
+    const double W_quad  = quad["shear_band_width_over_d"],
+                 W_slice = slice["shear_band_width_over_d"];
     const double mu_quad = quad["mu_wall"], mu_slice = slice["mu_wall"];
     EXPECT_NEAR(W_slice, W_quad, 0.02 * W_quad);
     EXPECT_NEAR(mu_slice, mu_quad, 0.02 * mu_quad);

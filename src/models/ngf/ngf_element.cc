@@ -14,8 +14,8 @@ namespace granflow::ngf
     struct PointKinematics
     {
       Tensor2              F;
-      std::vector<Tensor2> dF, G; // indexed by element dof; entries of fluidity dofs stay zero
-      double               r = 0.;         // current radius (quad)
+      std::vector<Tensor2> dF, G;  // indexed by element dof; entries of fluidity dofs stay zero
+      double               r = 0.; // current radius (quad)
       Tensor<1, 3>         grad_theta, grad_u_r; // (quad)
     };
 
@@ -55,7 +55,7 @@ namespace granflow::ngf
           grad_u_z += in.u[a][1] * dN[a];
           k.grad_theta += in.u[a][2] * dN[a];
         }
-      const double r = k.r = R + u_r;
+      const double        r = k.r = R + u_r;
       const Tensor<1, 3> &ur = k.grad_u_r, &th = k.grad_theta;
       k.F[0][0] = 1. + ur[0], k.F[0][1] = 0., k.F[0][2] = ur[2];
       k.F[1][0] = r * th[0], k.F[1][1] = r / R, k.F[1][2] = r * th[2];
@@ -83,7 +83,8 @@ namespace granflow::ngf
         }
     }
 
-    /// d G_i / d U_j of the quad (zero for the brick): G of u_r depends on theta, G of theta on u_r and theta.
+    /// d G_i / d U_j of the quad (zero for the brick): G of u_r depends on theta, G of theta on u_r
+    /// and theta.
     Tensor2
     dG(const unsigned int i, const unsigned int j, const std::vector<double> &N,
        const std::vector<Tensor<1, 3>> &dN, const double R, const PointKinematics &k)
@@ -120,12 +121,12 @@ namespace granflow::ngf
   } // namespace
 
   void
-  NonlocalElement::evaluate(const ElementShape &shape, const ElementInput &in, const bool with_jacobian,
-                            ElementOutput &out) const
+  NonlocalElement::evaluate(const ElementShape &shape, const ElementInput &in,
+                            const bool with_jacobian, ElementOutput &out) const
   {
-    const unsigned int n_nodes = in.u.size();
-    const unsigned int n_dofs  = 4 * n_nodes;
-    const unsigned int n_q     = shape.JxW.size();
+    const unsigned int n_nodes      = in.u.size();
+    const unsigned int n_dofs       = 4 * n_nodes;
+    const unsigned int n_q          = shape.JxW.size();
     const bool         axisymmetric = kinematics == Kinematics::axisymmetric;
     out.residual.reinit(n_dofs);
     out.magnitude.reinit(n_dofs);
@@ -135,8 +136,9 @@ namespace granflow::ngf
 
     // F-bar: the volume change is taken at the centroid, F_bar = (J_0 / J)^{1/3} F.
     PointKinematics k0;
-    compute_kinematics(kinematics, shape.N_centroid, shape.dN_dX_centroid, shape.R_centroid, in, with_jacobian, k0);
-    const double J0 = dealii::determinant(k0.F);
+    compute_kinematics(kinematics, shape.N_centroid, shape.dN_dX_centroid, shape.R_centroid, in,
+                       with_jacobian, k0);
+    const double        J0 = dealii::determinant(k0.F);
     std::vector<double> tr_dL0(n_dofs, 0.);
     if (with_jacobian && J0 > 0.)
       {
@@ -167,8 +169,10 @@ namespace granflow::ngf
           }
         const Tensor2 F_bar = std::cbrt(J0 / J) * k.F;
         const auto   &pt    = out.points[q] =
-          local ? rheology::local_update(F_bar, in.Fp_n[q], in.dt, moduli, material, with_jacobian) :
-                  rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material, with_jacobian);
+            local
+                     ? rheology::local_update(F_bar, in.Fp_n[q], in.dt, moduli, material, with_jacobian)
+                     : rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material,
+                                                 with_jacobian);
         const Tensor2 F_inv  = dealii::invert(k.F);
         const Tensor2 F_invT = dealii::transpose(F_inv);
         Tensor<1, 3>  grad_g;
@@ -180,7 +184,8 @@ namespace granflow::ngf
         const double  dv = J * dV;
         const Tensor2 T  = pt.T;
 
-        // (35): r_i = int T : H_i dv - int b_0 . dx_i dV ; R_g^a = int (grad g . grad N^a + N^a g_res) dv.
+        // (35): r_i = int T : H_i dv - int b_0 . dx_i dV ; R_g^a = int (grad g . grad N^a + N^a
+        // g_res) dv.
         for (unsigned int a = 0; a < n_nodes; ++a)
           {
             for (unsigned int c = 0; c < 3; ++c)
@@ -189,15 +194,15 @@ namespace granflow::ngf
                 H[i]                 = k.G[i] * F_inv;
                 double work          = in.body_force[c] * N[a]; // b . dx_i
                 if (axisymmetric)
-                  work = c == 0 ? in.body_force[0] * N[a] :
-                         c == 1 ? in.body_force[2] * N[a] :
-                                  in.body_force[1] * N[a] * k.r;
+                  work = c == 0   ? in.body_force[0] * N[a]
+                         : c == 1 ? in.body_force[2] * N[a]
+                                  : in.body_force[1] * N[a] * k.r;
                 out.residual[i] += contract(T, H[i]) * dv - work * dV;
                 out.magnitude[i] += std::abs(contract(T, H[i]) * dv) + std::abs(work * dV);
               }
             out.residual[4 * a + 3] += (grad_g * dN[a] + N[a] * pt.g_res) * dv;
             out.magnitude[4 * a + 3] +=
-              (std::abs(grad_g * dN[a]) + N[a] * (std::abs(g) + pt.g_loc) / (pt.xi * pt.xi)) * dv;
+                (std::abs(grad_g * dN[a]) + N[a] * (std::abs(g) + pt.g_loc) / (pt.xi * pt.xi)) * dv;
           }
         if (!with_jacobian)
           continue;
@@ -205,7 +210,8 @@ namespace granflow::ngf
         Tensor2 Q; // F-bar (de Souza Neto et al. 2008, (15.47)): Q = (1/3) C_ijmm - (2/3) T
         for (unsigned int i = 0; i < 3; ++i)
           for (unsigned int j = 0; j < 3; ++j)
-            Q[i][j] = (pt.C[i][j][0][0] + pt.C[i][j][1][1] + pt.C[i][j][2][2]) / 3. - 2. * T[i][j] / 3.;
+            Q[i][j] =
+                (pt.C[i][j][0][0] + pt.C[i][j][1][1] + pt.C[i][j][2][2]) / 3. - 2. * T[i][j] / 3.;
         const double  tr_Gamma = dealii::trace(pt.dgres_dL);
         const Tensor2 Lambda   = pt.Lambda;
         for (unsigned int j = 0; j < n_dofs; ++j)
@@ -251,10 +257,10 @@ namespace granflow::ngf
                       continue;
                     }
                   // d R_g / d u (84) with the F-bar terms of d g_res (85)-(86)
-                  const double geometric =
-                    -(grad_g * (dL[j] * dN[a])) - dN[a] * (dL[j] * grad_g) + (grad_g * dN[a]) * tr_dL[j];
-                  const double reaction =
-                    contract(pt.dgres_dL, dL[j]) + pt.g_res * tr_dL[j] + tr_Gamma * (tr_dL0[j] - tr_dL[j]) / 3.;
+                  const double geometric = -(grad_g * (dL[j] * dN[a])) - dN[a] * (dL[j] * grad_g) +
+                                           (grad_g * dN[a]) * tr_dL[j];
+                  const double reaction = contract(pt.dgres_dL, dL[j]) + pt.g_res * tr_dL[j] +
+                                          tr_Gamma * (tr_dL0[j] - tr_dL[j]) / 3.;
                   out.jacobian(i, j) += (geometric + N[a] * reaction) * dv;
                 }
           }

@@ -42,11 +42,10 @@ namespace granflow::ngf
       double       R_u, R_g;
     };
 
-    /// One run of a geometry: dim = 3 are bricks (the shear column of Henann 6.1, the annulus slice of
-    /// 6.3), dim = 2 an annulus section of generalized-axisymmetric quads (6.2, 6.3). Nodal unknowns:
-    /// (u_x, u_y, u_z, g) or (u_r, u_z, theta, g).
-    template <int dim>
-    class Problem
+    /// One run of a geometry: dim = 3 are bricks (the shear column of Henann 6.1, the annulus slice
+    /// of 6.3), dim = 2 an annulus section of generalized-axisymmetric quads (6.2, 6.3). Nodal
+    /// unknowns: (u_x, u_y, u_z, g) or (u_r, u_z, theta, g).
+    template <int dim> class Problem
     {
     public:
       Problem(const Parameters &prm, OutputDirectory &out, Logger &log);
@@ -56,14 +55,15 @@ namespace granflow::ngf
     private:
       const bool column; // the shear column (6.1)
       const bool slice;  // the 3D annulus slice (6.3)
-      // boundary ids: of GridGenerator::subdivided_hyper_rectangle with colorize = true for the column
-      // and the quad section; the slice is renumbered to the quad's ids plus its two periodic faces
-      const types::boundary_id            wall_id;       // the driven wall (z = 0, R = R_i)
-      const types::boundary_id            outer_id;      // z = depth, R = R_o
-      static constexpr types::boundary_id floor_id = 2;  // Z = 0 (annulus)
-      static constexpr types::boundary_id top_id   = 3;  // Z = H (annulus)
+      // boundary ids: of GridGenerator::subdivided_hyper_rectangle with colorize = true for the
+      // column and the quad section; the slice is renumbered to the quad's ids plus its two
+      // periodic faces
+      const types::boundary_id            wall_id;        // the driven wall (z = 0, R = R_i)
+      const types::boundary_id            outer_id;       // z = depth, R = R_o
+      static constexpr types::boundary_id floor_id   = 2; // Z = 0 (annulus)
+      static constexpr types::boundary_id top_id     = 3; // Z = H (annulus)
       static constexpr types::boundary_id first_face = 4, second_face = 5; // theta = 0, slice angle
-      static constexpr unsigned int       twist    = 2;  // theta component (quad)
+      static constexpr unsigned int       twist = 2;                       // theta component (quad)
 
       types::boundary_id
       boundary_id(const std::string &name) const;
@@ -71,13 +71,13 @@ namespace granflow::ngf
       make_mesh();
       void
       setup_system();
-      /// Periodicity, the Dirichlet conditions of the geometry at wall displacement `u_wall` (an arc
-      /// length for the annulus) and the fluidity Dirichlet values; `homogeneous` gives the
+      /// Periodicity, the Dirichlet conditions of the geometry at wall displacement `u_wall` (an
+      /// arc length for the annulus) and the fluidity Dirichlet values; `homogeneous` gives the
       /// constraints of the Newton corrections.
       void
       make_constraints(AffineConstraints<double> &c, double u_wall, bool homogeneous) const;
-      /// The slice's rotated periodicity: the nodes of the face at the slice angle are the images of
-      /// those at Theta = 0 under the rotation Q about z, with u = Q u_0 and g = g_0 there.
+      /// The slice's rotated periodicity: the nodes of the face at the slice angle are the images
+      /// of those at Theta = 0 under the rotation Q about z, with u = Q u_0 and g = g_0 there.
       void
       add_rotated_periodicity(AffineConstraints<double> &c) const;
       /// L_inf norms of the displacement and fluidity residuals and the scales that normalise them.
@@ -117,39 +117,39 @@ namespace granflow::ngf
       Logger           &log;
       NonlocalElement   element;
 
-      Triangulation<dim>        tria;
-      FESystem<dim>             fe;
-      DoFHandler<dim>           dof_handler;
-      AffineConstraints<double> newton_constraints;
-      SparsityPattern           sparsity;
-      SparseMatrix<double>      jacobian;
-      Vector<double>            U, U_n, residual, unconstrained_residual;
-      std::vector<ElementShape> shapes;                 // per cell
-      std::vector<std::vector<rheology::Tensor2>> Fp_n; // per cell, per quadrature point
+      Triangulation<dim>                          tria;
+      FESystem<dim>                               fe;
+      DoFHandler<dim>                             dof_handler;
+      AffineConstraints<double>                   newton_constraints;
+      SparsityPattern                             sparsity;
+      SparseMatrix<double>                        jacobian;
+      Vector<double>                              U, U_n, residual, unconstrained_residual;
+      std::vector<ElementShape>                   shapes; // per cell
+      std::vector<std::vector<rheology::Tensor2>> Fp_n;   // per cell, per quadrature point
       std::vector<std::vector<rheology::NonlocalPointUpdate>> points; // last evaluated state
-      std::vector<std::pair<types::boundary_id, double>> g_dirichlet, g_neumann;
-      std::vector<NewtonRecord> newton_log;
+      std::vector<std::pair<types::boundary_id, double>>      g_dirichlet, g_neumann;
+      std::vector<NewtonRecord>                               newton_log;
       std::vector<unsigned int> dof_component; // 0-2 displacement-type, 3: g
       double                    assembly_seconds = 0., solve_seconds = 0.;
-      SparseDirectUMFPACK       factorization;               // of the last Jacobian
+      SparseDirectUMFPACK       factorization; // of the last Jacobian
       bool                      factorization_valid = false;
-      std::vector<Point<dim>>   dof_point;     // reference position of each dof
+      std::vector<Point<dim>>   dof_point; // reference position of each dof
     };
 
     template <int dim>
     Problem<dim>::Problem(const Parameters &prm, OutputDirectory &out, Logger &log)
-      : column(prm.geometry.shape == "shear column")
-      , slice(prm.geometry.shape == "annulus slice")
-      , wall_id(column ? 4 : 0)
-      , outer_id(column ? 5 : 1)
-      , prm(prm)
-      , scale(prm.scales())
-      , out(out)
-      , log(log)
-      , element(dim == 3 ? Kinematics::brick : Kinematics::axisymmetric, prm.material.elastic, prm.material.nonlocal,
-                prm.solver.fluidity == "local")
-      , fe(FE_Q<dim>(1), 4)
-      , dof_handler(tria)
+        : column(prm.geometry.shape == "shear column")
+        , slice(prm.geometry.shape == "annulus slice")
+        , wall_id(column ? 4 : 0)
+        , outer_id(column ? 5 : 1)
+        , prm(prm)
+        , scale(prm.scales())
+        , out(out)
+        , log(log)
+        , element(dim == 3 ? Kinematics::brick : Kinematics::axisymmetric, prm.material.elastic,
+                  prm.material.nonlocal, prm.solver.fluidity == "local")
+        , fe(FE_Q<dim>(1), 4)
+        , dof_handler(tria)
     {
       // names were checked against the geometry by Parameters::validate()
       for (const auto &[name, value] : prm.fluidity_dirichlet())
@@ -163,9 +163,12 @@ namespace granflow::ngf
     Problem<dim>::boundary_id(const std::string &name) const
     {
       const std::map<std::string, types::boundary_id> ids =
-        column ? std::map<std::string, types::boundary_id>{{"wall", wall_id}, {"bottom", outer_id}} :
-                 std::map<std::string, types::boundary_id>{
-                   {"inner wall", wall_id}, {"outer wall", outer_id}, {"bottom", floor_id}, {"top", top_id}};
+          column
+              ? std::map<std::string, types::boundary_id>{{"wall", wall_id}, {"bottom", outer_id}}
+              : std::map<std::string, types::boundary_id>{{"inner wall", wall_id},
+                                                          {"outer wall", outer_id},
+                                                          {"bottom", floor_id},
+                                                          {"top", top_id}};
       return ids.at(name);
     }
 
@@ -176,27 +179,38 @@ namespace granflow::ngf
       if constexpr (dim == 3)
         {
           if (column)
-            GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_2, scale.n_2, scale.n_1}, Point<3>(0., 0., 0.),
-                                                      Point<3>(scale.h, scale.h, scale.depth), true);
+            GridGenerator::subdivided_hyper_rectangle(
+                tria, {scale.n_2, scale.n_2, scale.n_1}, Point<3>(0., 0., 0.),
+                Point<3>(scale.h, scale.h, scale.depth), true);
           else
             {
-              // (R, Theta, Z) box mapped to the slice; ids: R_i 0, R_o 1, Theta = 0 -> 4, slice angle -> 5,
-              // Z = 0 -> 2, Z = H -> 3 (the quad section's ids plus the two periodic faces)
+              // (R, Theta, Z) box mapped to the slice; ids: R_i 0, R_o 1, Theta = 0 -> 4, slice
+              // angle -> 5, Z = 0 -> 2, Z = H -> 3 (the quad section's ids plus the two periodic
+              // faces)
               const double angle = prm.geometry.slice_angle * M_PI / 180.;
-              GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_1, 1U, scale.n_2}, Point<3>(scale.R_i, 0., 0.),
+              GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_1, 1U, scale.n_2},
+                                                        Point<3>(scale.R_i, 0., 0.),
                                                         Point<3>(scale.R_o, angle, scale.H), true);
               for (const auto &face : tria.active_face_iterators())
                 if (face->at_boundary())
                   {
                     const types::boundary_id id = face->boundary_id();
-                    face->set_boundary_id(id == 2 ? 4 : id == 3 ? 5 : id == 4 ? 2 : id == 5 ? 3 : id);
+                    face->set_boundary_id(id == 2   ? 4
+                                          : id == 3 ? 5
+                                          : id == 4 ? 2
+                                          : id == 5 ? 3
+                                                    : id);
                   }
               GridTools::transform(
-                [](const Point<3> &p) { return Point<3>(p[0] * std::cos(p[1]), p[0] * std::sin(p[1]), p[2]); }, tria);
+                  [](const Point<3> &p) {
+                    return Point<3>(p[0] * std::cos(p[1]), p[0] * std::sin(p[1]), p[2]);
+                  },
+                  tria);
             }
         }
       else
-        GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_1, scale.n_2}, Point<2>(scale.R_i, 0.),
+        GridGenerator::subdivided_hyper_rectangle(tria, {scale.n_1, scale.n_2},
+                                                  Point<2>(scale.R_i, 0.),
                                                   Point<2>(scale.R_o, scale.H), true);
     }
 
@@ -232,10 +246,13 @@ namespace granflow::ngf
       for (unsigned int i = 0; i < dim; ++i)
         middle[i] = 0.5;
       FEValues<dim> values(scalar, quadrature,
-                           update_values | update_gradients | update_JxW_values | update_quadrature_points);
-      FEValues<dim> centroid(scalar, Quadrature<dim>(middle), update_values | update_gradients | update_quadrature_points);
-      auto three = [](const Tensor<1, dim> &t) {
-        return dim == 3 ? Tensor<1, 3>({t[0], t[1], t[dim - 1]}) : Tensor<1, 3>({t[0], 0., t[dim - 1]});
+                           update_values | update_gradients | update_JxW_values |
+                               update_quadrature_points);
+      FEValues<dim> centroid(scalar, Quadrature<dim>(middle),
+                             update_values | update_gradients | update_quadrature_points);
+      auto          three = [](const Tensor<1, dim> &t) {
+        return dim == 3 ? Tensor<1, 3>({t[0], t[1], t[dim - 1]})
+                                 : Tensor<1, 3>({t[0], 0., t[dim - 1]});
       };
       const unsigned int n_nodes = scalar.n_dofs_per_cell();
       shapes.resize(tria.n_active_cells());
@@ -269,35 +286,39 @@ namespace granflow::ngf
         }
       Fp_n.assign(tria.n_active_cells(),
                   std::vector<rheology::Tensor2>(quadrature.size(), unit_symmetric_tensor<3>()));
-      points.assign(tria.n_active_cells(), std::vector<rheology::NonlocalPointUpdate>(quadrature.size()));
+      points.assign(tria.n_active_cells(),
+                    std::vector<rheology::NonlocalPointUpdate>(quadrature.size()));
     }
 
     template <int dim>
     void
-    Problem<dim>::make_constraints(AffineConstraints<double> &c, const double u_wall, const bool homogeneous) const
+    Problem<dim>::make_constraints(AffineConstraints<double> &c, const double u_wall,
+                                   const bool homogeneous) const
     {
       c.clear();
-      const double s = homogeneous ? 0. : 1.;
-      auto fix = [&](types::boundary_id id, unsigned int component, double value) {
-        VectorTools::interpolate_boundary_values(dof_handler, id, Functions::ConstantFunction<dim>(s * value, 4), c,
-                                                 fe.component_mask(FEValuesExtractors::Scalar(component)));
+      const double s   = homogeneous ? 0. : 1.;
+      auto         fix = [&](types::boundary_id id, unsigned int component, double value) {
+        VectorTools::interpolate_boundary_values(
+                    dof_handler, id, Functions::ConstantFunction<dim>(s * value, 4), c,
+                    fe.component_mask(FEValuesExtractors::Scalar(component)));
       };
       if (slice)
         {
-          // 6.3 on the 3D slice: the inner wall turns rigidly about z (u = (Q(theta_w) - 1) x in x and y),
-          // the outer wall is fixed in x and y, the floor in z; the grains slide freely along z on the walls.
+          // 6.3 on the 3D slice: the inner wall turns rigidly about z (u = (Q(theta_w) - 1) x in x
+          // and y), the outer wall is fixed in x and y, the floor in z; the grains slide freely
+          // along z on the walls.
           const double theta_w = u_wall / scale.R_i;
           for (const unsigned int k : {0U, 1U})
             {
               VectorTools::interpolate_boundary_values(
-                dof_handler, wall_id,
-                VectorFunctionFromScalarFunctionObject<dim>(
-                  [&, k](const Point<dim> &x) {
-                    const double cs = std::cos(theta_w) - 1., sn = std::sin(theta_w);
-                    return s * (k == 0 ? cs * x[0] - sn * x[1] : sn * x[0] + cs * x[1]);
-                  },
-                  k, 4),
-                c, fe.component_mask(FEValuesExtractors::Scalar(k)));
+                  dof_handler, wall_id,
+                  VectorFunctionFromScalarFunctionObject<dim>(
+                      [&, k](const Point<dim> &x) {
+                        const double cs = std::cos(theta_w) - 1., sn = std::sin(theta_w);
+                        return s * (k == 0 ? cs * x[0] - sn * x[1] : sn * x[0] + cs * x[1]);
+                      },
+                      k, 4),
+                  c, fe.component_mask(FEValuesExtractors::Scalar(k)));
               fix(outer_id, k, 0.);
             }
           fix(floor_id, 2, 0.);
@@ -305,11 +326,13 @@ namespace granflow::ngf
         }
       else if constexpr (dim == 3)
         {
-          std::vector<GridTools::PeriodicFacePair<typename DoFHandler<dim>::cell_iterator>> periodic;
+          std::vector<GridTools::PeriodicFacePair<typename DoFHandler<dim>::cell_iterator>>
+              periodic;
           GridTools::collect_periodic_faces(dof_handler, 0, 1, 0, periodic);
           GridTools::collect_periodic_faces(dof_handler, 2, 3, 1, periodic);
           DoFTools::make_periodicity_constraints<dim, dim>(periodic, c);
-          // Henann 6.1: fixed bottom; the wall moves along x and is free along z (loaded by P_wall).
+          // Henann 6.1: fixed bottom; the wall moves along x and is free along z (loaded by
+          // P_wall).
           for (unsigned int k = 0; k < 3; ++k)
             fix(outer_id, k, 0.);
           fix(wall_id, 0, u_wall);
@@ -317,7 +340,8 @@ namespace granflow::ngf
         }
       else
         {
-          // 6.2 and 6.3: the inner wall turns without moving radially; the outer wall does not turn.
+          // 6.2 and 6.3: the inner wall turns without moving radially; the outer wall does not
+          // turn.
           fix(wall_id, 0, 0.);
           fix(wall_id, twist, u_wall / scale.R_i);
           fix(outer_id, twist, 0.);
@@ -330,7 +354,8 @@ namespace granflow::ngf
             }
           else
             {
-              // 6.3: rough walls that the grains slide along freely in z; smooth floor (u_z = 0 only)
+              // 6.3: rough walls that the grains slide along freely in z; smooth floor (u_z = 0
+              // only)
               fix(outer_id, 0, 0.);
               fix(floor_id, 1, 0.);
             }
@@ -352,19 +377,24 @@ namespace granflow::ngf
       const double cs = std::cos(angle), sn = std::sin(angle);
       using Node = std::array<types::global_dof_index, 4>;
       auto key   = [&](const Point<dim> &x) {
-        return std::make_pair(std::lround(std::hypot(x[0], x[1]) / scale.h * 1e6), std::lround(x[dim - 1] / scale.h * 1e6));
+        return std::make_pair(std::lround(std::hypot(x[0], x[1]) / scale.h * 1e6),
+                                std::lround(x[dim - 1] / scale.h * 1e6));
       };
       std::map<std::pair<long, long>, Node> first, second;
-      for (const auto i : DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {first_face}))
+      for (const auto i :
+           DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {first_face}))
         first[key(dof_point[i])][dof_component[i]] = i;
-      for (const auto i : DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {second_face}))
+      for (const auto i :
+           DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {second_face}))
         second[key(dof_point[i])][dof_component[i]] = i;
-      AssertThrow(first.size() == second.size(), ExcMessage("the periodic faces of the slice do not match"));
+      AssertThrow(first.size() == second.size(),
+                  ExcMessage("the periodic faces of the slice do not match"));
       for (const auto &[where, slave] : second)
         {
           const Node &master = first.at(where);
           // rows of Q for (u_x, u_y, u_z, g)
-          const double Q[4][4] = {{cs, -sn, 0., 0.}, {sn, cs, 0., 0.}, {0., 0., 1., 0.}, {0., 0., 0., 1.}};
+          const double Q[4][4] = {
+              {cs, -sn, 0., 0.}, {sn, cs, 0., 0.}, {0., 0., 1., 0.}, {0., 0., 0., 1.}};
           for (unsigned int k = 0; k < 4; ++k)
             {
               if (c.is_constrained(slave[k]))
@@ -384,9 +414,9 @@ namespace granflow::ngf
       const auto start = std::chrono::steady_clock::now();
       if (with_jacobian)
         jacobian = 0.;
-      residual               = 0.;
-      unconstrained_residual = 0.;
-      const unsigned int n_nodes = GeometryInfo<dim>::vertices_per_cell;
+      residual                                     = 0.;
+      unconstrained_residual                       = 0.;
+      const unsigned int                   n_nodes = GeometryInfo<dim>::vertices_per_cell;
       std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
       std::vector<unsigned int>            kernel_index(fe.n_dofs_per_cell());
       for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
@@ -407,7 +437,8 @@ namespace granflow::ngf
       double             force_scale = 0., fluidity_scale = 0.;
 
       QGauss<dim - 1>   face_quadrature(2);
-      FEFaceValues<dim> face(fe, face_quadrature, update_values | update_JxW_values | update_quadrature_points);
+      FEFaceValues<dim> face(fe, face_quadrature,
+                             update_values | update_JxW_values | update_quadrature_points);
 
       for (const auto &cell : dof_handler.active_cell_iterators())
         {
@@ -427,9 +458,10 @@ namespace granflow::ngf
 
           for (unsigned int a = 0; a < n_nodes; ++a)
             {
-              force_scale    = std::max(force_scale, std::sqrt(eo.magnitude[4 * a] * eo.magnitude[4 * a] +
-                                                            eo.magnitude[4 * a + 1] * eo.magnitude[4 * a + 1] +
-                                                            eo.magnitude[4 * a + 2] * eo.magnitude[4 * a + 2]));
+              force_scale    = std::max(force_scale,
+                                        std::sqrt(eo.magnitude[4 * a] * eo.magnitude[4 * a] +
+                                                  eo.magnitude[4 * a + 1] * eo.magnitude[4 * a + 1] +
+                                                  eo.magnitude[4 * a + 2] * eo.magnitude[4 * a + 2]));
               fluidity_scale = std::max(fluidity_scale, eo.magnitude[4 * a + 3]);
             }
           for (unsigned int i = 0; i < dofs.size(); ++i)
@@ -441,8 +473,8 @@ namespace granflow::ngf
             }
 
           // (35): external traction and fluidity flux, per unit reference area (per radian for the
-          // annulus: dA = R dZ). The shear column's wall presses along +z on z = 0; the annulus row's
-          // outer wall presses along -e_r.
+          // annulus: dA = R dZ). The shear column's wall presses along +z on z = 0; the annulus
+          // row's outer wall presses along -e_r.
           for (const unsigned int f : cell->face_indices())
             {
               if (!cell->face(f)->at_boundary())
@@ -452,7 +484,8 @@ namespace granflow::ngf
               for (const auto &[bid, value] : g_neumann)
                 if (bid == id)
                   zeta = value;
-              const bool pressed = column ? id == wall_id : (id == outer_id && prm.geometry.shape == "annulus row");
+              const bool pressed =
+                  column ? id == wall_id : (id == outer_id && prm.geometry.shape == "annulus row");
               if (!pressed && zeta == 0.)
                 continue;
               face.reinit(cell, f);
@@ -474,29 +507,32 @@ namespace granflow::ngf
           for (unsigned int i = 0; i < dofs.size(); ++i)
             unconstrained_residual[dofs[i]] += r_local[i];
           if (with_jacobian)
-            newton_constraints.distribute_local_to_global(J_local, r_local, dofs, jacobian, residual);
+            newton_constraints.distribute_local_to_global(J_local, r_local, dofs, jacobian,
+                                                          residual);
           else
             newton_constraints.distribute_local_to_global(r_local, dofs, residual);
         }
 
-      // Henann 6.1: L_inf norms of the assembled residuals, each normalised by an element-level nodal
-      // contribution to it. The paper takes the average; here it is the largest magnitude of the
-      // terms that make up an element's nodal residual: where the flow is confined to a few elements
-      // (its onset near a free surface) the average over the mesh is mostly zeros and would demand
-      // more than round-off allows.
+      // Henann 6.1: L_inf norms of the assembled residuals, each normalised by an element-level
+      // nodal contribution to it. The paper takes the average; here it is the largest magnitude of
+      // the terms that make up an element's nodal residual: where the flow is confined to a few
+      // elements (its onset near a free surface) the average over the mesh is mostly zeros and
+      // would demand more than round-off allows.
       ResidualNorms n;
       for (types::global_dof_index i = 0; i < residual.size(); ++i)
         if (!newton_constraints.is_constrained(i))
           {
             double &r = dof_component[i] == 3 ? n.g : n.u;
             // a NaN must propagate (std::max would drop it and report convergence)
-            r = std::isfinite(residual[i]) ? std::max(r, std::abs(residual[i])) : std::numeric_limits<double>::quiet_NaN();
+            r = std::isfinite(residual[i]) ? std::max(r, std::abs(residual[i]))
+                                           : std::numeric_limits<double>::quiet_NaN();
             if (std::isnan(r))
               return {r, r, 1., 1.};
           }
       n.u_scale = force_scale;
       n.g_scale = fluidity_scale;
-      assembly_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      assembly_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return n;
     }
 
@@ -516,8 +552,8 @@ namespace granflow::ngf
           const double R_u = n.R_u(n.u_scale), R_g = n.R_g(n.g_scale);
           newton_log.push_back({increment, iterations, R_u, R_g});
           log.table() << std::setw(6) << increment << std::setw(6) << iterations << std::scientific
-                      << std::setprecision(3) << std::setw(12) << R_u << std::setw(12) << R_g << std::defaultfloat
-                      << (fresh ? "" : "  (previous factorization)") << '\n';
+                      << std::setprecision(3) << std::setw(12) << R_u << std::setw(12) << R_g
+                      << std::defaultfloat << (fresh ? "" : "  (previous factorization)") << '\n';
           if (!std::isfinite(R_u) || !std::isfinite(R_g))
             return false;
           if (R_u <= prm.solver.tolerance && R_g <= prm.solver.tolerance)
@@ -534,7 +570,8 @@ namespace granflow::ngf
                 }
               dU = residual;
               factorization.solve(dU);
-              solve_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+              solve_seconds +=
+                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             }
           catch (const dealii::SparseDirectUMFPACK::ExcUMFPACKError &)
             {
@@ -551,19 +588,19 @@ namespace granflow::ngf
               dg = std::max(dg, std::abs(dU[i])), g_max = std::max(g_max, std::abs(U[i]));
             else
               du = std::max(du, std::abs(dU[i])), u_max = std::max(u_max, std::abs(U[i]));
-          log.table() << std::setw(36) << "correction" << std::scientific << std::setprecision(3) << std::setw(12)
-                      << (u_max > 0. ? du / u_max : du) << std::setw(12) << (g_max > 0. ? dg / g_max : dg)
-                      << std::defaultfloat << '\n';
+          log.table() << std::setw(36) << "correction" << std::scientific << std::setprecision(3)
+                      << std::setw(12) << (u_max > 0. ? du / u_max : du) << std::setw(12)
+                      << (g_max > 0. ? dg / g_max : dg) << std::defaultfloat << '\n';
           if (fresh && du <= 1e-10 * u_max && dg <= 1e-10 * g_max)
             {
               U += dU;
               return true;
             }
-          // Backtracking on max(R_u, R_g) with this iterate's scales: the full step is taken whenever
-          // it reduces the residual (always, near the solution), so quadratic convergence is kept; it
-          // is halved where the fluidity problem is far from linear (onset of flow, free surface).
-          // A step with a previous factorization must contract the residual four times, or the
-          // Jacobian is factorized afresh.
+          // Backtracking on max(R_u, R_g) with this iterate's scales: the full step is taken
+          // whenever it reduces the residual (always, near the solution), so quadratic convergence
+          // is kept; it is halved where the fluidity problem is far from linear (onset of flow,
+          // free surface). A step with a previous factorization must contract the residual four
+          // times, or the Jacobian is factorized afresh.
           U_start             = U;
           const double merit0 = std::max(R_u, R_g);
           double       alpha  = 1.;
@@ -571,8 +608,9 @@ namespace granflow::ngf
             {
               U = U_start;
               U.add(alpha, dU);
-              // The fluidity is non-negative (Henann Section 2): iterates are projected onto g >= 0, so
-              // that an overshoot below zero does not switch the flow rule off (max(g, 0) in the update).
+              // The fluidity is non-negative (Henann Section 2): iterates are projected onto g >=
+              // 0, so that an overshoot below zero does not switch the flow rule off (max(g, 0) in
+              // the update).
               for (types::global_dof_index i = 0; i < U.size(); ++i)
                 if (dof_component[i] == 3 && U[i] < 0.)
                   U[i] = 0.;
@@ -602,16 +640,17 @@ namespace granflow::ngf
     double
     Problem<dim>::wall_stress_ratio() const
     {
-      // Column: the x-force of the wall on the bed per unit area over P_wall. Annulus: the moment of the
-      // inner wall per radian, M = tau_wall R_i (R_i H), over R_i^2 H P (P_wall, or for 6.3 the mean
-      // hydrostatic pressure along the wall, phi rho_s G H / 2).
+      // Column: the x-force of the wall on the bed per unit area over P_wall. Annulus: the moment
+      // of the inner wall per radian, M = tau_wall R_i (R_i H), over R_i^2 H P (P_wall, or for 6.3
+      // the mean hydrostatic pressure along the wall, phi rho_s G H / 2).
       if (slice)
         {
-          // the moment about z of the wall's x- and y-reactions at the nodes' current positions (the
-          // radial reactions have a lever arm once the wall has turned), per radian of the slice; the
-          // dofs of a node are numbered together, x before y
+          // the moment about z of the wall's x- and y-reactions at the nodes' current positions
+          // (the radial reactions have a lever arm once the wall has turned), per radian of the
+          // slice; the dofs of a node are numbered together, x before y
           double moment = 0.;
-          for (const auto i : DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {wall_id}))
+          for (const auto i :
+               DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {wall_id}))
             {
               const Point<dim> &X = dof_point[i];
               if (dof_component[i] == 0)
@@ -623,14 +662,15 @@ namespace granflow::ngf
           return moment / (scale.R_i * scale.R_i * scale.H) / (0.5 * scale.P_wall);
         }
       const unsigned int component = column ? 0 : twist;
-      const IndexSet     wall_dofs =
-        DoFTools::extract_boundary_dofs(dof_handler, fe.component_mask(FEValuesExtractors::Scalar(component)), {wall_id});
+      const IndexSet     wall_dofs = DoFTools::extract_boundary_dofs(
+              dof_handler, fe.component_mask(FEValuesExtractors::Scalar(component)), {wall_id});
       double reaction = 0.;
       for (const auto i : wall_dofs)
         reaction += unconstrained_residual[i];
       if (column)
         return reaction / (scale.h * scale.h) / scale.P_wall;
-      const double pressure = prm.geometry.shape == "annulus row" ? scale.P_wall : 0.5 * scale.P_wall;
+      const double pressure =
+          prm.geometry.shape == "annulus row" ? scale.P_wall : 0.5 * scale.P_wall;
       return reaction / (scale.R_i * scale.R_i * scale.H) / pressure;
     }
 
@@ -645,8 +685,8 @@ namespace granflow::ngf
         for (types::global_dof_index i = 0; i < v.size(); ++i)
           if (dof_component[i] == twist)
             {
-              // v_theta = r dtheta/dt with r = R + u_r of the same node (dofs of a node are consecutive
-              // in component order for this single-base FESystem)
+              // v_theta = r dtheta/dt with r = R + u_r of the same node (dofs of a node are
+              // consecutive in component order for this single-base FESystem)
               const types::global_dof_index radial = i - twist;
               AssertThrow(dof_component[radial] == 0 && dof_point[radial] == dof_point[i],
                           ExcMessage("the dofs of a node are expected to be numbered together"));
@@ -663,22 +703,23 @@ namespace granflow::ngf
       setup_system();
       const double d = scale.d;
       log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
-                (dim == 3 ? " bricks" : " generalized-axisymmetric quads") + ", h/d = " + std::to_string(scale.h / d) +
-                ", " + std::to_string(dof_handler.n_dofs()) + " dofs\n");
+                (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
+                ", h/d = " + std::to_string(scale.h / d) + ", " +
+                std::to_string(dof_handler.n_dofs()) + " dofs\n");
       log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
-                  << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u" << std::setw(12)
-                  << "R_g" << '\n';
+                  << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u"
+                  << std::setw(12) << "R_g" << '\n';
 
-      // Increment 0 loads the body (gravity, wall pressure) with the wall at rest; then the wall moves
-      // at v_wall. Increments adapt to the Newton iteration count.
+      // Increment 0 loads the body (gravity, wall pressure) with the wall at rest; then the wall
+      // moves at v_wall. Increments adapt to the Newton iteration count.
       double                    du     = prm.solver.first_increment * d;
       double                    u_wall = 0., mu_wall = 0., mu_wall_previous = 0.;
       unsigned int              increment = 0, total_iterations = 0, cuts = 0, max_iterations = 0;
       Vector<double>            rate(U.size()), v(U.size()), v_previous(U.size());
       AffineConstraints<double> step_constraints;
       bool                      loading = true;
-      std::string               failure; // set when an increment cannot be completed
-      std::vector<double>       h_disp, h_mu, h_iter, h_vmax; // per increment: the history.csv columns
+      std::string               failure;                // set when an increment cannot be completed
+      std::vector<double> h_disp, h_mu, h_iter, h_vmax; // per increment: the history.csv columns
       while (loading || u_wall < scale.u_end * (1. - 1e-12))
         {
           const double step = loading ? 0. : std::min(du, scale.u_end - u_wall);
@@ -698,11 +739,13 @@ namespace granflow::ngf
               if (du < 1e-6 * prm.solver.first_increment * d)
                 {
                   std::ostringstream s;
-                  s << "Newton did not converge at wall displacement " << u_wall / d << " d even with an increment of "
-                    << du / d << " d";
+                  s << "Newton did not converge at wall displacement " << u_wall / d
+                    << " d even with an increment of " << du / d << " d";
                   failure = s.str();
                   U       = U_n;
-                  assemble(0., false); // the converged state: with dt = 0 the update returns it unchanged
+                  assemble(
+                      0.,
+                      false); // the converged state: with dt = 0 the update returns it unchanged
                   break;
                 }
               continue;
@@ -738,16 +781,19 @@ namespace granflow::ngf
           if (iterations <= 4)
             du = std::min(du * prm.solver.growth, prm.solver.max_increment * d);
           std::ostringstream p;
-          p << "increment " << increment << ": wall displacement " << u_wall / d << " d of " << scale.u_end / d
-            << ", mu_wall " << mu_wall << ", " << iterations << " Newton iterations";
+          p << "increment " << increment << ": wall displacement " << u_wall / d << " d of "
+            << scale.u_end / d << ", mu_wall " << mu_wall << ", " << iterations
+            << " Newton iterations";
           log.progress(p.str());
         }
 
       nlohmann::json summary;
-      summary["case"]  = prm.name;
-      summary["model"] = "ngf";
+      summary["case"]     = prm.name;
+      summary["model"]    = "ngf";
       summary["geometry"] = prm.geometry.shape;
-      summary["mesh"]  = {{"elements", tria.n_active_cells()}, {"h_over_d", scale.h / d}, {"dofs", dof_handler.n_dofs()}};
+      summary["mesh"]     = {{"elements", tria.n_active_cells()},
+                             {"h_over_d", scale.h / d},
+                             {"dofs", dof_handler.n_dofs()}};
       if (column)
         {
           summary["P_wall_over_phi_rho_s_G_d"] = prm.loading.wall_pressure;
@@ -755,27 +801,29 @@ namespace granflow::ngf
         }
       else if (prm.geometry.shape == "annulus row")
         {
-          summary["R_i_over_d"]                     = prm.geometry.inner_radius;
+          summary["R_i_over_d"]                       = prm.geometry.inner_radius;
           summary["R_i_Omega_sqrt_rho_s_over_P_wall"] = prm.loading.wall_speed;
         }
       else
         {
-          summary["R_i_over_d"]               = prm.geometry.inner_radius;
-          summary["R_i_Omega_over_sqrt_G_d"]  = prm.loading.wall_speed;
+          summary["R_i_over_d"]              = prm.geometry.inner_radius;
+          summary["R_i_Omega_over_sqrt_G_d"] = prm.loading.wall_speed;
         }
       summary["mu_wall"] = mu_wall;
-      summary["newton"]  = {{"increments", increment},
-                           {"iterations", total_iterations},
-                           {"iterations_per_increment", double(total_iterations) / std::max(1U, increment)},
-                           {"max_iterations", max_iterations},
-                           {"increment_cuts", cuts}};
+      summary["newton"]  = {
+           {"increments", increment},
+           {"iterations", total_iterations},
+           {"iterations_per_increment", double(total_iterations) / std::max(1U, increment)},
+           {"max_iterations", max_iterations},
+           {"increment_cuts", cuts}};
       // Steadiness over the last increment: change of mu_wall and of the wall-parallel velocity.
       double dv = 0.;
       for (types::global_dof_index i = 0; i < v.size(); ++i)
         if ((slice ? dof_component[i] < 2 : dof_component[i] == (column ? 0U : twist)))
           dv = std::max(dv, std::abs(v[i] - v_previous[i]) / scale.v_wall);
-      summary["steady_state"] = {{"mu_wall_change_last_increment", std::abs(mu_wall - mu_wall_previous)},
-                                 {"velocity_change_last_increment", dv}};
+      summary["steady_state"] = {
+          {"mu_wall_change_last_increment", std::abs(mu_wall - mu_wall_previous)},
+          {"velocity_change_last_increment", dv}};
       postprocess(summary, v);
       if (prm.output.write_vtu)
         write_vtu(v);
@@ -787,22 +835,25 @@ namespace granflow::ngf
           ru.push_back(r.R_u);
           rg.push_back(r.R_g);
         }
-      out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations", "max_v_over_v_wall"},
-                    {h_disp, h_mu, h_iter, h_vmax});
+      out.write_csv(
+          "history.csv",
+          {"wall_displacement_over_d", "mu_wall", "newton_iterations", "max_v_over_v_wall"},
+          {h_disp, h_mu, h_iter, h_vmax});
       out.write_csv("newton.csv", {"increment", "iteration", "R_u", "R_g"}, {inc, it, ru, rg});
-      summary["timings"] = {{"total_s", log.elapsed()},
-                            {"assembly_s", assembly_seconds},
-                            {"linear_solve_s", solve_seconds}};
+      summary["timings"]                  = {{"total_s", log.elapsed()},
+                                             {"assembly_s", assembly_seconds},
+                                             {"linear_solve_s", solve_seconds}};
       summary["converged"]                = failure.empty();
       summary["wall_displacement_over_d"] = u_wall / d;
       out.write_json("summary.json", summary);
       if (!failure.empty())
-        throw ConvergenceError(failure + "; the last converged state (wall displacement " + std::to_string(u_wall / d) +
-                               " d) is written to " + out.target() + " (see log.txt)");
-      log.print("ngf: mu_wall = " + std::to_string(mu_wall) + ", W/d = " +
-                std::to_string(summary.value("shear_band_width_over_d", 0.)) + ", " + std::to_string(increment) +
-                " increments, " + std::to_string(total_iterations) + " Newton iterations, " +
-                std::to_string(log.elapsed()) + " s\n");
+        throw ConvergenceError(failure + "; the last converged state (wall displacement " +
+                               std::to_string(u_wall / d) + " d) is written to " + out.target() +
+                               " (see log.txt)");
+      log.print("ngf: mu_wall = " + std::to_string(mu_wall) +
+                ", W/d = " + std::to_string(summary.value("shear_band_width_over_d", 0.)) + ", " +
+                std::to_string(increment) + " increments, " + std::to_string(total_iterations) +
+                " Newton iterations, " + std::to_string(log.elapsed()) + " s\n");
       return {summary};
     }
 
@@ -812,16 +863,17 @@ namespace granflow::ngf
     {
       const double d = scale.d;
       // Nodal profile across the shear band, from the driven wall: along the edge x = y = 0 of the
-      // column (depth z), along the bottom of the annulus row, along the free surface of the annulus
-      // (for the slice: on its face Theta = 0, where x = R).
-      const unsigned int along     = column ? 2 : 0;
-      const unsigned int parallel  = column ? 0 : twist;
-      auto               on_line   = [&](const Point<dim> &x) {
+      // column (depth z), along the bottom of the annulus row, along the free surface of the
+      // annulus (for the slice: on its face Theta = 0, where x = R).
+      const unsigned int along    = column ? 2 : 0;
+      const unsigned int parallel = column ? 0 : twist;
+      auto               on_line  = [&](const Point<dim> &x) {
         if (column)
           return x[0] < 1e-9 * scale.h && x[1] < 1e-9 * scale.h;
         if (slice)
           return std::abs(x[1]) < 1e-9 * scale.h && x[dim - 1] > scale.H * (1. - 1e-9);
-        return prm.geometry.shape == "annulus row" ? x[1] < 1e-9 * scale.H : x[1] > scale.H * (1. - 1e-9);
+        return prm.geometry.shape == "annulus row" ? x[1] < 1e-9 * scale.H
+                                                                  : x[1] > scale.H * (1. - 1e-9);
       };
       struct NodeValues
       {
@@ -836,7 +888,7 @@ namespace granflow::ngf
           if (slice && dof_component[i] < 2)
             {
               // v_theta = -sin(phi) v_x + cos(phi) v_y at the node's current angle phi
-              (dof_component[i] == 0 ? node.v_x : node.v) = v[i];
+              (dof_component[i] == 0 ? node.v_x : node.v)   = v[i];
               (dof_component[i] == 0 ? node.u_x : node.u_y) = U[i];
             }
           else if (!slice && dof_component[i] == parallel)
@@ -856,9 +908,9 @@ namespace granflow::ngf
             node.u           = phi; // the angle of rotation theta
           }
       // g in units of sqrt(G / d) (with gravity) or sqrt(P_wall / (rho_s d^2)) (annulus row)
-      const double g_unit = prm.geometry.shape == "annulus row" ?
-                              std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d :
-                              std::sqrt(prm.material.G / d);
+      const double        g_unit = prm.geometry.shape == "annulus row"
+                                       ? std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d
+                                       : std::sqrt(prm.material.G / d);
       std::vector<double> x, vel, g, u;
       for (const auto &[distance, node] : by_distance)
         {
@@ -877,10 +929,10 @@ namespace granflow::ngf
           }
       summary["shear_band_width_over_d"] = W;
 
-      std::vector<std::string> header = {column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
-                                         prm.geometry.shape == "annulus row" ? "g_d_sqrt_rho_s_over_P_wall" :
-                                                                               "g_sqrt_d_over_G",
-                                         column ? "u_x_over_d" : "theta"};
+      std::vector<std::string> header = {
+          column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
+          prm.geometry.shape == "annulus row" ? "g_d_sqrt_rho_s_over_P_wall" : "g_sqrt_d_over_G",
+          column ? "u_x_over_d" : "theta"};
       std::vector<std::vector<double>> columns = {x, vel, g, u};
       if (prm.output.reference == "finite difference")
         {
@@ -911,8 +963,9 @@ namespace granflow::ngf
           for (unsigned int i = 0; i < x.size(); ++i)
             {
               // the FD grid divides the domain, so node positions fall on or between grid points
-              const double s   = x[i] * d / (profile.x[1] - profile.x[0]);
-              const auto   k   = std::min<std::size_t>(static_cast<std::size_t>(s), profile.x.size() - 2);
+              const double s = x[i] * d / (profile.x[1] - profile.x[0]);
+              const auto   k =
+                  std::min<std::size_t>(static_cast<std::size_t>(s), profile.x.size() - 2);
               const double t   = s - k;
               const double vfd = ((1. - t) * profile.v[k] + t * profile.v[k + 1]) / profile.v_wall;
               v_fd.push_back(vfd);
@@ -921,14 +974,16 @@ namespace granflow::ngf
           header.push_back("v_over_v_wall_reference");
           columns.push_back(v_fd);
           const double mu_wall = summary["mu_wall"];
-          summary["reference"] = {{"method", column ? "finite difference of (90), 0.01 d grid" :
-                                                      "finite difference of (92), exact Couette kinematics, 0.01 d grid"},
-                                  {"mu_wall", profile.mu_wall},
-                                  {"shear_band_width_over_d", profile.shear_band_width / d},
-                                  {"max_velocity_difference_over_v_wall", worst},
-                                  {"mu_wall_relative_difference", std::abs(mu_wall / profile.mu_wall - 1.)},
-                                  {"shear_band_width_relative_difference",
-                                   std::abs(W / (profile.shear_band_width / d) - 1.)}};
+          summary["reference"] = {
+              {"method", column
+                             ? "finite difference of (90), 0.01 d grid"
+                             : "finite difference of (92), exact Couette kinematics, 0.01 d grid"},
+              {"mu_wall", profile.mu_wall},
+              {"shear_band_width_over_d", profile.shear_band_width / d},
+              {"max_velocity_difference_over_v_wall", worst},
+              {"mu_wall_relative_difference", std::abs(mu_wall / profile.mu_wall - 1.)},
+              {"shear_band_width_relative_difference",
+               std::abs(W / (profile.shear_band_width / d) - 1.)}};
         }
       out.write_csv("profiles/velocity.csv", header, columns);
 
@@ -952,7 +1007,8 @@ namespace granflow::ngf
           p.push_back(pp / scale.P_wall);
           gloc.push_back(gl / g_unit);
         }
-      out.write_csv("profiles/stress.csv", {header[0], "mu", "p_over_P_wall", "g_loc_scaled"}, {xc, mu, p, gloc});
+      out.write_csv("profiles/stress.csv", {header[0], "mu", "p_over_P_wall", "g_loc_scaled"},
+                    {xc, mu, p, gloc});
     }
 
     template <int dim>
@@ -969,17 +1025,18 @@ namespace granflow::ngf
           names  = {"displacement", "displacement", "displacement", "g"};
           vnames = {"velocity", "velocity", "velocity", "dg_dt"};
           kinds  = {DataComponentInterpretation::component_is_part_of_vector,
-                   DataComponentInterpretation::component_is_part_of_vector,
-                   DataComponentInterpretation::component_is_part_of_vector,
-                   DataComponentInterpretation::component_is_scalar};
+                    DataComponentInterpretation::component_is_part_of_vector,
+                    DataComponentInterpretation::component_is_part_of_vector,
+                    DataComponentInterpretation::component_is_scalar};
         }
       else
         {
           names  = {"displacement", "displacement", "theta", "g"};
           vnames = {"velocity_rz", "velocity_rz", "v_theta", "dg_dt"};
           kinds  = {DataComponentInterpretation::component_is_part_of_vector,
-                   DataComponentInterpretation::component_is_part_of_vector,
-                   DataComponentInterpretation::component_is_scalar, DataComponentInterpretation::component_is_scalar};
+                    DataComponentInterpretation::component_is_part_of_vector,
+                    DataComponentInterpretation::component_is_scalar,
+                    DataComponentInterpretation::component_is_scalar};
         }
       data_out.add_data_vector(U, names, DataOut<dim>::type_dof_data, kinds);
       data_out.add_data_vector(v, vnames, DataOut<dim>::type_dof_data, kinds);
@@ -987,7 +1044,8 @@ namespace granflow::ngf
       Vector<double> v_scaled(v.size());
       for (types::global_dof_index i = 0; i < v.size(); ++i)
         v_scaled[i] = v[i] / scale.v_wall;
-      std::vector<std::string> snames = {"v_over_v_wall_0", "v_over_v_wall_1", "v_over_v_wall", "g_rate_scaled"};
+      std::vector<std::string> snames = {"v_over_v_wall_0", "v_over_v_wall_1", "v_over_v_wall",
+                                         "g_rate_scaled"};
       if (dim == 3)
         snames = {"v_over_v_wall", "v_over_v_wall_y", "v_over_v_wall_z", "g_rate_scaled"};
       data_out.add_data_vector(v_scaled, snames, DataOut<dim>::type_dof_data);

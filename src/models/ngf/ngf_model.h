@@ -19,7 +19,8 @@ namespace granflow::ngf
   };
 
   /// Runs one case. Throws InputError on bad input (before anything is written) and
-  /// ConvergenceError when an increment cannot be completed (after writing the last converged state).
+  /// ConvergenceError when an increment cannot be completed (after writing the last converged
+  /// state).
   Results
   run(const Parameters &parameters, OutputDirectory &output, Logger &log);
 } // namespace granflow::ngf

@@ -27,113 +27,141 @@ namespace granflow::ngf
                         Double(0., 1.));
       prm.add_parameter("b", m.nonlocal.b, "Rate sensitivity b of mu_loc = mu_s + b I (1), > 0.",
                         Double(0.));
-      prm.add_parameter("A", m.nonlocal.A, "Nonlocal amplitude A of xi = A d / sqrt|mu - mu_s| (24), > 0.",
+      prm.add_parameter("A", m.nonlocal.A,
+                        "Nonlocal amplitude A of xi = A d / sqrt|mu - mu_s| (24), > 0.",
                         Double(0.));
-      prm.add_parameter("Grain diameter", m.nonlocal.d, "Mean grain diameter d [m], > 0.", Double(0.));
-      prm.add_parameter("Grain density", m.nonlocal.rho_s, "Grain material density rho_s [kg/m^3], > 0.",
+      prm.add_parameter("Grain diameter", m.nonlocal.d, "Mean grain diameter d [m], > 0.",
                         Double(0.));
-      prm.add_parameter("Shear modulus", m.elastic.S, "Shear modulus S of (12) [Pa], > 0.", Double(0.));
-      prm.add_parameter("Bulk modulus", m.elastic.B, "Bulk modulus B of (12) [Pa], > 0.", Double(0.));
-      prm.add_parameter("Solid fraction", m.phi, "Solid volume fraction phi of b_0 = phi rho_s G (27), in (0, 1].",
+      prm.add_parameter("Grain density", m.nonlocal.rho_s,
+                        "Grain material density rho_s [kg/m^3], > 0.", Double(0.));
+      prm.add_parameter("Shear modulus", m.elastic.S, "Shear modulus S of (12) [Pa], > 0.",
+                        Double(0.));
+      prm.add_parameter("Bulk modulus", m.elastic.B, "Bulk modulus B of (12) [Pa], > 0.",
+                        Double(0.));
+      prm.add_parameter("Solid fraction", m.phi,
+                        "Solid volume fraction phi of b_0 = phi rho_s G (27), in (0, 1].",
                         Double(0., 1.));
       prm.add_parameter("Gravity", m.G, "Acceleration of gravity G [m/s^2], > 0.", Double(0.));
       prm.add_parameter("Cooperativity length cap", m.nonlocal.xi_cap_over_d,
-                        "Smooth cap of xi in grain diameters (Section 4 footnote: 1000), > 0.", Double(0.));
+                        "Smooth cap of xi in grain diameters (Section 4 footnote: 1000), > 0.",
+                        Double(0.));
     }
     prm.leave_subsection();
 
     prm.enter_subsection("Geometry");
     {
       auto &g = geometry;
-      prm.add_parameter("Shape", g.shape,
-                        "shear column: one column of 8-node bricks, depth along z, periodic in x and y, "
-                        "driven wall at z = 0 ('wall'), fixed bottom ('bottom') (Henann 6.1, Fig. 1a); "
-                        "annulus row: one row of generalized-axisymmetric quads from R_i ('inner wall', "
-                        "rotated) to R_o ('outer wall', pressed), u_z = 0 (6.2, Fig. 3a); annulus: the "
-                        "(R, Z) section of an annular cell of height H with gravity, smooth floor ('bottom'), "
-                        "free surface ('top') (6.3, Fig. 5a); annulus slice: the same cell as a 3D slice of "
-                        "bricks one element thick with rotated periodic faces (6.3).",
-                        Selection("shear column|annulus row|annulus|annulus slice"));
-      prm.add_parameter("Depth", g.depth, "Bed depth of the shear column in grain diameters (6.1: 20), > 0.",
+      prm.add_parameter(
+          "Shape", g.shape,
+          "shear column: one column of 8-node bricks, depth along z, periodic in x and y, "
+          "driven wall at z = 0 ('wall'), fixed bottom ('bottom') (Henann 6.1, Fig. 1a); "
+          "annulus row: one row of generalized-axisymmetric quads from R_i ('inner wall', "
+          "rotated) to R_o ('outer wall', pressed), u_z = 0 (6.2, Fig. 3a); annulus: the "
+          "(R, Z) section of an annular cell of height H with gravity, smooth floor ('bottom'), "
+          "free surface ('top') (6.3, Fig. 5a); annulus slice: the same cell as a 3D slice of "
+          "bricks one element thick with rotated periodic faces (6.3).",
+          Selection("shear column|annulus row|annulus|annulus slice"));
+      prm.add_parameter("Depth", g.depth,
+                        "Bed depth of the shear column in grain diameters (6.1: 20), > 0.",
                         Double(0.));
-      prm.add_parameter("Inner radius", g.inner_radius, "Annulus inner radius R_i in grain diameters (6.2: 60), > 0.",
+      prm.add_parameter("Inner radius", g.inner_radius,
+                        "Annulus inner radius R_i in grain diameters (6.2: 60), > 0.", Double(0.));
+      prm.add_parameter("Gap", g.gap, "Annulus width R_o - R_i in grain diameters (6.2: 20), > 0.",
                         Double(0.));
-      prm.add_parameter("Gap", g.gap, "Annulus width R_o - R_i in grain diameters (6.2: 20), > 0.", Double(0.));
-      prm.add_parameter("Height", g.height, "Annulus fill height H in grain diameters (6.3: 15), > 0.", Double(0.));
+      prm.add_parameter("Height", g.height,
+                        "Annulus fill height H in grain diameters (6.3: 15), > 0.", Double(0.));
       prm.add_parameter("Slice angle", g.slice_angle,
-                        "Angle of the 3D annulus slice in degrees (6.3: 0.1), in (0, 10].", Double(0., 10.));
-      prm.add_parameter("Element size", g.element_size,
-                        "Element size h in grain diameters (6.1: 1/3); rounded so that every length is an "
-                        "integer number of elements, > 0.",
-                        Double(0.));
+                        "Angle of the 3D annulus slice in degrees (6.3: 0.1), in (0, 10].",
+                        Double(0., 10.));
+      prm.add_parameter(
+          "Element size", g.element_size,
+          "Element size h in grain diameters (6.1: 1/3); rounded so that every length is an "
+          "integer number of elements, > 0.",
+          Double(0.));
     }
     prm.leave_subsection();
 
     prm.enter_subsection("Loading");
     {
       auto &l = loading;
-      prm.add_parameter("Wall pressure", l.wall_pressure,
-                        "Shear column: dimensionless wall pressure P_wall / (phi rho_s G d) (6.1), > 0.", Double(0.));
+      prm.add_parameter(
+          "Wall pressure", l.wall_pressure,
+          "Shear column: dimensionless wall pressure P_wall / (phi rho_s G d) (6.1), > 0.",
+          Double(0.));
       prm.add_parameter("Confining pressure", l.confining_pressure,
-                        "Annulus row: pressure P_wall on the outer wall [Pa] (6.2), > 0.", Double(0.));
-      prm.add_parameter("Wall speed", l.wall_speed,
-                        "Dimensionless speed of the driven wall: v_wall / sqrt(G d) (shear column, 6.1), "
-                        "R_i Omega sqrt(rho_s / P_wall) (annulus row, 6.2), R_i Omega / sqrt(G d) (annulus, 6.3); > 0.",
+                        "Annulus row: pressure P_wall on the outer wall [Pa] (6.2), > 0.",
                         Double(0.));
+      prm.add_parameter(
+          "Wall speed", l.wall_speed,
+          "Dimensionless speed of the driven wall: v_wall / sqrt(G d) (shear column, 6.1), "
+          "R_i Omega sqrt(rho_s / P_wall) (annulus row, 6.2), R_i Omega / sqrt(G d) (annulus, "
+          "6.3); > 0.",
+          Double(0.));
       prm.add_parameter("Wall displacement", l.wall_displacement,
-                        "Shear column: wall displacement at the end of the run, in grain diameters (6.1: 1), > 0.",
+                        "Shear column: wall displacement at the end of the run, in grain diameters "
+                        "(6.1: 1), > 0.",
                         Double(0.));
-      prm.add_parameter("Wall rotation", l.wall_rotation,
-                        "Annulus: rotation of the inner wall at the end of the run [degrees] (6.2, 6.3: 4), > 0.",
-                        Double(0.));
+      prm.add_parameter(
+          "Wall rotation", l.wall_rotation,
+          "Annulus: rotation of the inner wall at the end of the run [degrees] (6.2, 6.3: 4), > 0.",
+          Double(0.));
     }
     prm.leave_subsection();
 
     prm.enter_subsection("Fluidity boundary conditions");
     {
       prm.add_parameter("Dirichlet", fluidity_bc.dirichlet,
-                        "'name: g_wall, ...': prescribed fluidity [1/s] on these boundaries (25).", Anything());
-      prm.add_parameter("Neumann", fluidity_bc.neumann,
-                        "'name: zeta, ...': prescribed grad g . n [1/(s m)] (25); every other boundary "
-                        "has zeta = 0.",
+                        "'name: g_wall, ...': prescribed fluidity [1/s] on these boundaries (25).",
                         Anything());
+      prm.add_parameter(
+          "Neumann", fluidity_bc.neumann,
+          "'name: zeta, ...': prescribed grad g . n [1/(s m)] (25); every other boundary "
+          "has zeta = 0.",
+          Anything());
     }
     prm.leave_subsection();
 
     prm.enter_subsection("Solver");
     {
       auto &s = solver;
-      prm.add_parameter("Fluidity", s.fluidity,
-                        "nonlocal: g is a nodal unknown solving (23); local: g = g_loc, the local rheology (1) "
-                        "(the comparison of Henann 6.3, Fig. 7).",
-                        Selection("nonlocal|local"));
-      prm.add_parameter("Tolerance", s.tolerance,
-                        "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, > 0.",
-                        Double(0.));
+      prm.add_parameter(
+          "Fluidity", s.fluidity,
+          "nonlocal: g is a nodal unknown solving (23); local: g = g_loc, the local rheology (1) "
+          "(the comparison of Henann 6.3, Fig. 7).",
+          Selection("nonlocal|local"));
+      prm.add_parameter(
+          "Tolerance", s.tolerance,
+          "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, > 0.",
+          Double(0.));
       prm.add_parameter("Max Newton iterations", s.max_iterations,
                         "Newton iterations before the increment is cut.", Integer(1, 100));
       prm.add_parameter("First increment", s.first_increment,
-                        "Wall displacement of the first shear increment, in grain diameters, > 0.", Double(0.));
+                        "Wall displacement of the first shear increment, in grain diameters, > 0.",
+                        Double(0.));
       prm.add_parameter("Max increment", s.max_increment,
-                        "Largest wall displacement per increment, in grain diameters, > 0.", Double(0.));
-      prm.add_parameter("Reuse factorization", s.reuse_factorization,
-                        "Take Newton steps with the last factorized Jacobian (also across increments) while "
-                        "each reduces the residual at least 4 times; false: a fresh Jacobian every iteration "
-                        "(pure Newton, as for the quadratic-convergence study of Fig. 2c).",
-                        Bool());
-      prm.add_parameter("Increment growth", s.growth,
-                        "Factor by which the increment grows after a solve in at most 4 iterations.",
-                        Double(1.));
+                        "Largest wall displacement per increment, in grain diameters, > 0.",
+                        Double(0.));
+      prm.add_parameter(
+          "Reuse factorization", s.reuse_factorization,
+          "Take Newton steps with the last factorized Jacobian (also across increments) while "
+          "each reduces the residual at least 4 times; false: a fresh Jacobian every iteration "
+          "(pure Newton, as for the quadratic-convergence study of Fig. 2c).",
+          Bool());
+      prm.add_parameter(
+          "Increment growth", s.growth,
+          "Factor by which the increment grows after a solve in at most 4 iterations.", Double(1.));
     }
     prm.leave_subsection();
 
     prm.enter_subsection("Output");
     {
-      prm.add_parameter("Reference", output.reference,
-                        "none, or finite difference: the 1D reduction (90) solved on a 0.01 d grid at the "
-                        "same wall speed, written beside the profile and compared in summary.json.",
-                        Selection("none|finite difference"));
-      prm.add_parameter("Write vtu", output.write_vtu, "Write solution-0000.vtu and solution.pvd.", Bool());
+      prm.add_parameter(
+          "Reference", output.reference,
+          "none, or finite difference: the 1D reduction (90) solved on a 0.01 d grid at the "
+          "same wall speed, written beside the profile and compared in summary.json.",
+          Selection("none|finite difference"));
+      prm.add_parameter("Write vtu", output.write_vtu, "Write solution-0000.vtu and solution.pvd.",
+                        Bool());
     }
     prm.leave_subsection();
   }
@@ -145,7 +173,8 @@ namespace granflow::ngf
     const auto        &m = material;
     require_positive(m.nonlocal.mu_s, f, "Material/mu_s");
     if (m.nonlocal.mu_s >= 1.)
-      throw InputError(f, "Material/mu_s", "= " + std::to_string(m.nonlocal.mu_s) + ": expected a value in (0, 1)");
+      throw InputError(f, "Material/mu_s",
+                       "= " + std::to_string(m.nonlocal.mu_s) + ": expected a value in (0, 1)");
     require_positive(m.nonlocal.b, f, "Material/b");
     require_positive(m.nonlocal.A, f, "Material/A");
     require_positive(m.nonlocal.d, f, "Material/Grain diameter");
@@ -160,14 +189,16 @@ namespace granflow::ngf
     require_positive(geometry.gap, f, "Geometry/Gap");
     require_positive(geometry.height, f, "Geometry/Height");
     require_positive(geometry.element_size, f, "Geometry/Element size");
-    const double shortest = geometry.shape == "shear column" ? geometry.depth :
-                            geometry.shape == "annulus row"  ? geometry.gap :
-                                                               std::min(geometry.gap, geometry.height);
+    const double shortest = geometry.shape == "shear column" ? geometry.depth
+                            : geometry.shape == "annulus row"
+                                ? geometry.gap
+                                : std::min(geometry.gap, geometry.height);
     require_positive(geometry.slice_angle, f, "Geometry/Slice angle");
     if (geometry.element_size > shortest)
       throw InputError(f, "Geometry/Element size",
-                       "= " + std::to_string(geometry.element_size) + " is larger than the domain (" +
-                         std::to_string(shortest) + " grain diameters)");
+                       "= " + std::to_string(geometry.element_size) +
+                           " is larger than the domain (" + std::to_string(shortest) +
+                           " grain diameters)");
     require_positive(loading.wall_pressure, f, "Loading/Wall pressure");
     require_positive(loading.confining_pressure, f, "Loading/Confining pressure");
     require_positive(loading.wall_speed, f, "Loading/Wall speed");
@@ -176,23 +207,29 @@ namespace granflow::ngf
     require_positive(solver.tolerance, f, "Solver/Tolerance");
     require_positive(solver.first_increment, f, "Solver/First increment");
     require_positive(solver.max_increment, f, "Solver/Max increment");
-    if (output.reference == "finite difference" && (geometry.shape == "annulus" || geometry.shape == "annulus slice"))
-      throw InputError(f, "Output/Reference",
-                       "= finite difference has no 1D reduction for the annulus with gravity: expected none");
-    if (solver.fluidity == "local" && !(fluidity_bc.dirichlet.empty() && fluidity_bc.neumann.empty()))
-      throw InputError(f, "Solver/Fluidity",
-                       "= local has no fluidity field: leave the Fluidity boundary conditions empty");
+    if (output.reference == "finite difference" &&
+        (geometry.shape == "annulus" || geometry.shape == "annulus slice"))
+      throw InputError(
+          f, "Output/Reference",
+          "= finite difference has no 1D reduction for the annulus with gravity: expected none");
+    if (solver.fluidity == "local" &&
+        !(fluidity_bc.dirichlet.empty() && fluidity_bc.neumann.empty()))
+      throw InputError(
+          f, "Solver/Fluidity",
+          "= local has no fluidity field: leave the Fluidity boundary conditions empty");
     const auto names = boundary_names();
-    for (const auto &[entry, list] : {std::pair{"Fluidity boundary conditions/Dirichlet", fluidity_dirichlet()},
-                                      std::pair{"Fluidity boundary conditions/Neumann", fluidity_neumann()}})
+    for (const auto &[entry, list] :
+         {std::pair{"Fluidity boundary conditions/Dirichlet", fluidity_dirichlet()},
+          std::pair{"Fluidity boundary conditions/Neumann", fluidity_neumann()}})
       for (const auto &item : list)
         if (std::find(names.begin(), names.end(), item.first) == names.end())
           {
             std::string expected;
             for (const auto &n : names)
               expected += (expected.empty() ? "" : " or ") + n;
-            throw InputError(f, entry, "names boundary '" + item.first + "', which the " + geometry.shape +
-                                         " lacks: expected " + expected);
+            throw InputError(f, entry,
+                             "names boundary '" + item.first + "', which the " + geometry.shape +
+                                 " lacks: expected " + expected);
           }
   }
 
@@ -207,8 +244,8 @@ namespace granflow::ngf
   Scales
   Parameters::scales() const
   {
-    const auto  &m = material;
-    const double d = m.nonlocal.d;
+    const auto  &m        = material;
+    const double d        = m.nonlocal.d;
     auto         elements = [&](double length) {
       return static_cast<unsigned int>(std::max(1., std::round(length / geometry.element_size)));
     };
@@ -226,10 +263,10 @@ namespace granflow::ngf
         s.u_end  = loading.wall_displacement * d;
         return s;
       }
-    s.R_i = geometry.inner_radius * d;
-    s.R_o = s.R_i + geometry.gap * d;
-    s.n_1 = elements(geometry.gap);
-    s.h   = (s.R_o - s.R_i) / s.n_1;
+    s.R_i   = geometry.inner_radius * d;
+    s.R_o   = s.R_i + geometry.gap * d;
+    s.n_1   = elements(geometry.gap);
+    s.h     = (s.R_o - s.R_i) / s.n_1;
     s.u_end = s.R_i * loading.wall_rotation * M_PI / 180.;
     if (geometry.shape == "annulus row")
       {
@@ -252,13 +289,15 @@ namespace granflow::ngf
   std::vector<std::pair<std::string, double>>
   Parameters::fluidity_dirichlet() const
   {
-    return parse_named_values(fluidity_bc.dirichlet, case_file, "Fluidity boundary conditions/Dirichlet");
+    return parse_named_values(fluidity_bc.dirichlet, case_file,
+                              "Fluidity boundary conditions/Dirichlet");
   }
 
   std::vector<std::pair<std::string, double>>
   Parameters::fluidity_neumann() const
   {
-    return parse_named_values(fluidity_bc.neumann, case_file, "Fluidity boundary conditions/Neumann");
+    return parse_named_values(fluidity_bc.neumann, case_file,
+                              "Fluidity boundary conditions/Neumann");
   }
 
   Parameters

@@ -19,19 +19,20 @@ namespace granflow::ngf
   {
     rheology::NonlocalParameters nonlocal;
     rheology::ElasticModuli      elastic;
-    double                       phi = 0.62;  // solid volume fraction, b_0 = phi rho_s G (27)
-    double                       G   = 9.81;  // gravity [m/s^2]
+    double                       phi = 0.62; // solid volume fraction, b_0 = phi rho_s G (27)
+    double                       G   = 9.81; // gravity [m/s^2]
   };
 
   struct GeometryParameters
   {
-    std::string shape        = "shear column"; // shear column (6.1) | annulus row (6.2) | annulus (6.3) | annulus slice (6.3, 3D)
-    double      depth        = 20.;            // bed depth / d (shear column)
-    double      inner_radius = 60.;            // R_i / d (annulus)
-    double      gap          = 20.;            // (R_o - R_i) / d (annulus)
-    double      height       = 15.;            // H / d (annulus)
-    double      slice_angle  = 0.1;            // angle of the 3D slice [degrees] (annulus slice)
-    double      element_size = 1. / 3.;        // h / d
+    std::string shape = "shear column"; // shear column (6.1) | annulus row (6.2) | annulus (6.3) |
+                                        // annulus slice (6.3, 3D)
+    double depth        = 20.;          // bed depth / d (shear column)
+    double inner_radius = 60.;          // R_i / d (annulus)
+    double gap          = 20.;          // (R_o - R_i) / d (annulus)
+    double height       = 15.;          // H / d (annulus)
+    double slice_angle  = 0.1;          // angle of the 3D slice [degrees] (annulus slice)
+    double element_size = 1. / 3.;      // h / d
   };
 
   struct LoadingParameters
@@ -51,12 +52,12 @@ namespace granflow::ngf
 
   struct SolverParameters
   {
-    std::string  fluidity          = "nonlocal"; // nonlocal | local (g = g_loc, Section 6.3 comparison)
-    double       tolerance         = 1e-6;  // normalised residuals R_u, R_g (Section 6.1)
-    unsigned int max_iterations    = 12;    // Newton iterations per increment
-    double       first_increment   = 1e-5;  // wall displacement of the first shear increment / d
-    double       max_increment     = 0.01;  // largest wall displacement per increment / d
-    double       growth            = 1.5;   // increment growth after an easy Newton solve
+    std::string  fluidity  = "nonlocal";     // nonlocal | local (g = g_loc, Section 6.3 comparison)
+    double       tolerance = 1e-6;           // normalised residuals R_u, R_g (Section 6.1)
+    unsigned int max_iterations      = 12;   // Newton iterations per increment
+    double       first_increment     = 1e-5; // wall displacement of the first shear increment / d
+    double       max_increment       = 0.01; // largest wall displacement per increment / d
+    double       growth              = 1.5;  // increment growth after an easy Newton solve
     bool         reuse_factorization = true; // modified Newton steps while they contract 4x
   };
 
@@ -70,10 +71,10 @@ namespace granflow::ngf
   /// R_i Omega t for the annulus).
   struct Scales
   {
-    double d, h, P_wall, v_wall, u_end, body_force;
-    double depth;          // shear column
-    double R_i, R_o, H;    // annulus
-    unsigned int n_1, n_2; // elements along the shear gradient (z or R) and across it
+    double       d, h, P_wall, v_wall, u_end, body_force;
+    double       depth;       // shear column
+    double       R_i, R_o, H; // annulus
+    unsigned int n_1, n_2;    // elements along the shear gradient (z or R) and across it
   };
 
   struct Parameters
