@@ -725,9 +725,21 @@ namespace granflow::ngf
           const double step = loading ? 0. : std::min(du, scale.u_end - u_wall);
           const double dt   = (loading ? du : step) / scale.v_wall;
           // Predictor: continue the last increment's motion (the steady flow is then almost exact).
+          // The slice turns about z, so its x and y rates are kept as (dr/dt, dphi/dt) of each node:
+          // a linear extrapolation of Cartesian displacements would cut the chord of the arc, an
+          // error of R dphi^2 / 2 that exceeds the elastic strains at the wall.
           U = U_n;
           for (types::global_dof_index i = 0; i < U.size(); ++i)
-            if (dof_component[i] < 3)
+            if (slice && dof_component[i] == 0)
+              {
+                const Point<dim> &X   = dof_point[i];
+                const double      x   = X[0] + U_n[i], y = X[1] + U_n[i + 1];
+                const double      r   = std::hypot(x, y) + rate[i] * dt;
+                const double      phi = std::atan2(y, x) + rate[i + 1] * dt;
+                U[i]                  = r * std::cos(phi) - X[0];
+                U[i + 1]              = r * std::sin(phi) - X[1];
+              }
+            else if (dof_component[i] < 3 && !(slice && dof_component[i] == 1))
               U[i] += rate[i] * dt;
           make_constraints(step_constraints, u_wall + step, false);
           step_constraints.distribute(U);
@@ -761,6 +773,17 @@ namespace granflow::ngf
               rate       = U;
               rate -= U_n;
               rate /= dt;
+              if (slice)
+                for (types::global_dof_index i = 0; i < U.size(); ++i)
+                  if (dof_component[i] == 0)
+                    {
+                      // (dr/dt, dphi/dt) in place of (du_x/dt, du_y/dt); x and y dofs of a node are adjacent
+                      const Point<dim> &X = dof_point[i];
+                      const double      x1 = X[0] + U[i], y1 = X[1] + U[i + 1];
+                      const double      x0 = X[0] + U_n[i], y0 = X[1] + U_n[i + 1];
+                      rate[i]              = (std::hypot(x1, y1) - std::hypot(x0, y0)) / dt;
+                      rate[i + 1]          = std::remainder(std::atan2(y1, x1) - std::atan2(y0, x0), 2. * M_PI) / dt;
+                    }
               u_wall += step;
               mu_wall_previous = mu_wall;
               mu_wall          = wall_stress_ratio();
