@@ -5,15 +5,14 @@
 // reduction (92) with the exact Couette kinematics (shear rate -r d(v/r)/dr), computed here on a
 // 0.01 d grid at the same wall speed: v / v_wall within 0.03 at every node, mu_wall within 1 %, W /
 // d within 5 % (issue #3 b).
-#include "core/output.h"
 #include "models/ngf/ngf_model.h"
 #include "postprocess/nonlocal_1d.h"
+#include "support/ngf_run.h"
 #include "support/reference_profile.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <map>
 #include <string>
 
@@ -44,12 +43,8 @@ namespace
                                          {"Loading/Wall speed", std::to_string(c.rate)},
                                          {"Output/Reference", "none"},
                                          {"Output/Write vtu", "false"}});
-    const std::string dir = ::testing::TempDir() + "/granflow_" + name.str();
-    std::filesystem::remove_all(dir);
-    OutputDirectory out(dir);
-    Logger          log(out.file("log.txt"), false);
-    const auto      summary = ngf::run(parameters, out, log).summary;
-    out.commit();
+    const auto        summary = test::run_ngf(parameters, name.str());
+    const std::string dir     = summary["output_directory"];
 
     const auto                 &m = parameters.material;
     const double                d = m.nonlocal.d;
@@ -95,14 +90,7 @@ namespace
                                          {"Geometry/Element size", std::to_string(h)},
                                          {"Output/Reference", "none"},
                                          {"Output/Write vtu", "false"}});
-    const std::string dir = ::testing::TempDir() + "/granflow_ngf_mesh_" + tag;
-    std::filesystem::remove_all(dir);
-    OutputDirectory out(dir);
-    Logger          log(out.file("log.txt"), false);
-    auto            summary = ngf::run(parameters, out, log).summary;
-    out.commit();
-    summary["output_directory"] = dir;
-    return summary;
+    return test::run_ngf(parameters, "ngf_mesh_" + tag);
   }
 
   TEST(AnnularShearMeshDependence, LocalModelLocalisesInOneElementNonlocalDoesNot)

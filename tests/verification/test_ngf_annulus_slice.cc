@@ -3,21 +3,20 @@
 // same flow (the paper: "indistinguishable"). A reduced cell keeps the test fast: R_i = 20 d,
 // R_o - R_i = 6 d, H = 3 d, h/d = 1/2, 2 degrees of rotation at R_i Omega / sqrt(G d) = 1e-3.
 // Checked: surface velocity within 0.02 of the wall speed (issue #3 c), W and mu_wall within 2 %.
-#include "core/output.h"
 #include "models/ngf/ngf_model.h"
 #include "support/csv.h"
+#include "support/ngf_run.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 
 namespace
 {
   using namespace granflow;
 
   nlohmann::json
-  run_cell(const std::string &case_name, const std::string &dir)
+  run_cell(const std::string &case_name)
   {
     const std::string case_file =
         std::string(GRANFLOW_SOURCE_DIR) + "/cases/henann2016/" + case_name + ".prm";
@@ -27,20 +26,15 @@ namespace
                                                              {"Geometry/Element size", "0.5"},
                                                              {"Loading/Wall rotation", "2"},
                                                              {"Output/Write vtu", "false"}});
-    std::filesystem::remove_all(dir);
-    OutputDirectory out(dir);
-    Logger          log(out.file("log.txt"), false);
-    auto            summary = ngf::run(parameters, out, log).summary;
-    out.commit();
-    return summary;
+    return test::run_ngf(parameters, "ngf_" + case_name);
   }
 
   TEST(AnnulusWithGravity, QuadSectionAndThreeDimensionalSliceAgree)
   {
-    const std::string quad_dir  = ::testing::TempDir() + "/granflow_ngf_annulus_quad";
-    const std::string slice_dir = ::testing::TempDir() + "/granflow_ngf_annulus_slice";
-    const auto        quad      = run_cell("annular_shear_gravity", quad_dir);
-    const auto        slice     = run_cell("annular_shear_gravity_slice", slice_dir);
+    const auto        quad      = run_cell("annular_shear_gravity");
+    const auto        slice     = run_cell("annular_shear_gravity_slice");
+    const std::string quad_dir  = quad["output_directory"];
+    const std::string slice_dir = slice["output_directory"];
 
     const auto a = test::read_csv(quad_dir + "/profiles/velocity.csv");
     const auto b = test::read_csv(slice_dir + "/profiles/velocity.csv");

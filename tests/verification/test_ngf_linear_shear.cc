@@ -3,15 +3,14 @@
 // mu_wall (from the wall reactions) and shear-band width W are compared with the finite-difference
 // solution of the 1D reduction (90) computed here on a 0.01 d grid at the same wall speed:
 // v / v_wall within 0.03 at every node, mu_wall within 1 %, W / d within 5 % (issue #3 a).
-#include "core/output.h"
 #include "models/ngf/ngf_model.h"
 #include "postprocess/nonlocal_1d.h"
+#include "support/ngf_run.h"
 #include "support/reference_profile.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <filesystem>
 #include <string>
 
 namespace
@@ -41,12 +40,8 @@ namespace
                                          {"Loading/Wall speed", std::to_string(c.v_wall)},
                                          {"Output/Reference", "none"},
                                          {"Output/Write vtu", "false"}});
-    const std::string dir = ::testing::TempDir() + "/granflow_" + name.str();
-    std::filesystem::remove_all(dir);
-    OutputDirectory out(dir);
-    Logger          log(out.file("log.txt"), false);
-    const auto      summary = ngf::run(parameters, out, log).summary;
-    out.commit();
+    const auto        summary = test::run_ngf(parameters, name.str());
+    const std::string dir     = summary["output_directory"];
 
     // The reference, from the case's own physical parameters.
     const auto                       &m = parameters.material;
