@@ -11,7 +11,7 @@ packages=(
   nlohmann-json3-dev        # summary.json
   libgtest-dev              # unit and verification tests
   libbenchmark-dev          # bench/ micro benchmarks
-  python3 python3-matplotlib python3-meshio python3-numpy  # scripts/plot
+  python3 python3-matplotlib python3-meshio python3-numpy python3-scipy  # scripts/plot, scripts/*.py
 )
 
 missing=()
