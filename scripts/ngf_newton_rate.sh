@@ -1,14 +1,15 @@
 #!/usr/bin/env bash
-# Henann & Kamrin 2016, Section 6.1 / Fig. 2c: asymptotically quadratic convergence of the (u, g)
-# Newton procedure on the shear column (P_wall/(phi rho_s G d) = 6.67, v_wall/sqrt(Gd) = 1e-3,
-# h/d = 1/3, homogeneous Neumann fluidity conditions, case-file solver settings except the Newton
+# Henann & Kamrin 2016, Section 6.1 / Fig. 2c and 6.2 / Fig. 4c: asymptotically quadratic
+# convergence of the (u, g) Newton procedure on the shear column (GEOMETRY = column, default:
+# P_wall/(phi rho_s G d) = 6.67, v_wall/sqrt(Gd) = 1e-3) or the annulus row (GEOMETRY = annulus:
+# R_i/d = 60, R_i Omega sqrt(rho_s/P_wall) = 1e-3), h/d = 1/3, homogeneous Neumann fluidity conditions, case-file solver settings except the Newton
 # tolerance TOL, default 1e-8: at the case's 1e-6 only increments 12-14 need >= 3 iterations; at 1e-8
 # the iterates run into the round-off floors; at 1e-9 and 1e-10 R_g cannot get below its floor and
 # the run stops with "Newton did not converge").
 # From newton.csv, the accepted attempt of each of the first ten increments that needed at least
 # 3 Newton iterations (the yielding transient; attempts that were cut and repeated are skipped)
 # gives the pairs (R^(k), R^(k+1)) of normalised L_inf residuals.
-# Writes DIR/newton_rate.csv (increment, k, R_k_u, R_k1_u, R_k_g, R_k1_g) and DIR/newton_rate.png
+# Writes DIR/newton_rate_GEOMETRY.csv (increment, k, R_k_u, R_k1_u, R_k_g, R_k1_g) and DIR/newton_rate_GEOMETRY.png
 # (R^(k+1) against R^(k), log-log, one colour per increment, dashed quadratic guides). Prints the
 # least-squares slope of log R^(k+1) against log R^(k) over the pairs with 0 < R^(k) < 1e-2, again
 # without the pairs whose R^(k+1) is at the round-off floor (R_u < FLOOR_U, default 1e-9; R_g <
@@ -16,18 +17,25 @@
 # the median local order log(R^(k+1)/R^(k)) / log(R^(k)/R^(k-1)) within each increment over the
 # iterates with R^(k) < 1 and R^(k+1) above the floor (the pooled fit mixes increments whose
 # constants differ, and R_u^(k+1) is driven by R_g^(k) while R_g is large).
-#   scripts/ngf_newton_rate.sh [BUILD_DIR] [OUT_DIR] [TOL] [FLOOR_U] [FLOOR_G]
+#   scripts/ngf_newton_rate.sh [BUILD_DIR] [OUT_DIR] [TOL] [FLOOR_U] [FLOOR_G] [GEOMETRY]
 set -euo pipefail
 build=${1:-build} out=${2:-results/henann2016} tol=${3:-1e-8} floor_u=${4:-1e-9} floor_g=${5:-1e-7}
+geometry=${6:-column}
+case $geometry in
+  column) case_file=cases/henann2016/linear_shear_gravity.prm figure="Fig. 2c"
+    loading=(--set "Loading/Wall pressure=6.67" --set "Loading/Wall speed=1e-3") ;;
+  annulus) case_file=cases/henann2016/annular_shear.prm figure="Fig. 4c"
+    loading=(--set "Geometry/Inner radius=60" --set "Loading/Wall speed=1e-3") ;;
+  *) echo "ngf_newton_rate.sh: GEOMETRY must be column or annulus, not '$geometry'" >&2; exit 2 ;;
+esac
 mkdir -p "$out"
 runs=$(mktemp -d)
 trap 'rm -rf "$runs"' EXIT
 run="$runs/newton_rate"
-"$build/apps/granflow" run cases/henann2016/linear_shear_gravity.prm --quiet --output "$run" \
-  --set "Loading/Wall pressure=6.67" --set "Loading/Wall speed=1e-3" --set "Solver/Tolerance=$tol" \
+"$build/apps/granflow" run "$case_file" --quiet --output "$run" "${loading[@]}" --set "Solver/Tolerance=$tol" \
   --set "Solver/Reuse factorization=false" \
   --set "Output/Write vtu=false" --set "Output/Reference=none" >/dev/null
-/usr/bin/python3 - "$run/newton.csv" "$out" "$floor_u" "$floor_g" "$tol" <<'PY'
+/usr/bin/python3 - "$run/newton.csv" "$out" "$floor_u" "$floor_g" "$tol" "$geometry" "$figure" <<'PY'
 import csv, math, statistics, sys
 import matplotlib
 matplotlib.use("Agg")
@@ -41,7 +49,7 @@ for r in rows:
         attempts[inc] = []
     attempts[inc].append((float(r["R_u"]), float(r["R_g"])))
 chosen = [inc for inc in sorted(attempts) if len(attempts[inc]) - 1 >= 3][:10]
-with open(f"{out}/newton_rate.csv", "w") as f:
+with open(f"{out}/newton_rate_{sys.argv[6]}.csv", "w") as f:
     f.write("increment,k,R_k_u,R_k1_u,R_k_g,R_k1_g\n")
     for inc in chosen:
         a = attempts[inc]
@@ -88,7 +96,7 @@ for j, name in enumerate(("u", "g")):
           f"excluding R^(k+1) < {floor:g}: {s_flo[0]:.3f} over {s_flo[1]} pairs; "
           f"local orders within increments: median {med:.2f} of {len(local)} {[round(x, 2) for x in local]}")
 axs[0].legend(fontsize=7)
-fig.suptitle(f"Henann & Kamrin 2016 Fig. 2c: Newton residuals (tolerance {sys.argv[5]}), dashed: quadratic R^(k+1) = c R^(k)^2", fontsize=10)
-fig.tight_layout(); fig.savefig(f"{out}/newton_rate.png", dpi=130)
+fig.suptitle(f"Henann & Kamrin 2016 {sys.argv[7]}: Newton residuals (tolerance {sys.argv[5]}), dashed: quadratic R^(k+1) = c R^(k)^2", fontsize=10)
+fig.tight_layout(); fig.savefig(f"{out}/newton_rate_{sys.argv[6]}.png", dpi=130)
 PY
-echo "$out/newton_rate.csv"
+echo "$out/newton_rate_$geometry.csv"
