@@ -5,6 +5,7 @@
 #include "postprocess/nonlocal_1d.h"
 
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/work_stream.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_q.h>
@@ -414,104 +415,136 @@ namespace granflow::ngf
       const auto start = std::chrono::steady_clock::now();
       if (with_jacobian)
         jacobian = 0.;
-      residual                                     = 0.;
-      unconstrained_residual                       = 0.;
-      const unsigned int                   n_nodes = GeometryInfo<dim>::vertices_per_cell;
-      std::vector<types::global_dof_index> dofs(fe.n_dofs_per_cell());
-      std::vector<unsigned int>            kernel_index(fe.n_dofs_per_cell());
-      for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+      residual                          = 0.;
+      unconstrained_residual            = 0.;
+      const unsigned int        n_nodes = GeometryInfo<dim>::vertices_per_cell;
+      const unsigned int        n_dofs  = fe.n_dofs_per_cell();
+      std::vector<unsigned int> kernel_index(n_dofs);
+      for (unsigned int i = 0; i < n_dofs; ++i)
         {
           const auto [component, node] = fe.system_to_component_index(i);
           kernel_index[i]              = 4 * node + component;
         }
+      QGauss<dim - 1> face_quadrature(2);
 
-      ElementInput in;
-      in.u.resize(n_nodes);
-      in.g.resize(n_nodes);
-      in.dt = dt;
-      // (27): gravity into the bed (+z) for the column, along -z for the annulus
-      in.body_force = Tensor<1, 3>({0., 0., column ? scale.body_force : -scale.body_force});
-      ElementOutput      eo;
-      Vector<double>     r_local(fe.n_dofs_per_cell());
-      FullMatrix<double> J_local(fe.n_dofs_per_cell(), fe.n_dofs_per_cell());
-      double             force_scale = 0., fluidity_scale = 0.;
-
-      QGauss<dim - 1>   face_quadrature(2);
-      FEFaceValues<dim> face(fe, face_quadrature,
-                             update_values | update_JxW_values | update_quadrature_points);
-
-      for (const auto &cell : dof_handler.active_cell_iterators())
+      // The elements are evaluated in parallel (WorkStream, one thread per core); each writes
+      // only its own constitutive state points[c]. The copier adds into the global system
+      // serially and in cell order, so the result does not depend on the number of threads.
+      struct Scratch
+      {
+        Scratch(const FiniteElement<dim> &fe, const Quadrature<dim - 1> &q,
+                const unsigned int n_nodes)
+            : face(fe, q, update_values | update_JxW_values | update_quadrature_points)
         {
-          cell->get_dof_indices(dofs);
-          for (unsigned int i = 0; i < dofs.size(); ++i)
-            {
-              const unsigned int k = kernel_index[i];
-              if (k % 4 == 3)
-                in.g[k / 4] = U[dofs[i]];
-              else
-                in.u[k / 4][k % 4] = U[dofs[i]];
-            }
-          const unsigned int c = cell->active_cell_index();
-          in.Fp_n              = Fp_n[c];
-          element.evaluate(shapes[c], in, with_jacobian, eo);
-          points[c] = eo.points;
-
-          for (unsigned int a = 0; a < n_nodes; ++a)
-            {
-              force_scale    = std::max(force_scale,
-                                        std::sqrt(eo.magnitude[4 * a] * eo.magnitude[4 * a] +
-                                                  eo.magnitude[4 * a + 1] * eo.magnitude[4 * a + 1] +
-                                                  eo.magnitude[4 * a + 2] * eo.magnitude[4 * a + 2]));
-              fluidity_scale = std::max(fluidity_scale, eo.magnitude[4 * a + 3]);
-            }
-          for (unsigned int i = 0; i < dofs.size(); ++i)
-            {
-              r_local[i] = eo.residual[kernel_index[i]];
-              if (with_jacobian)
-                for (unsigned int j = 0; j < dofs.size(); ++j)
-                  J_local(i, j) = eo.jacobian(kernel_index[i], kernel_index[j]);
-            }
-
-          // (35): external traction and fluidity flux, per unit reference area (per radian for the
-          // annulus: dA = R dZ). The shear column's wall presses along +z on z = 0; the annulus
-          // row's outer wall presses along -e_r.
-          for (const unsigned int f : cell->face_indices())
-            {
-              if (!cell->face(f)->at_boundary())
-                continue;
-              const types::boundary_id id   = cell->face(f)->boundary_id();
-              double                   zeta = 0.;
-              for (const auto &[bid, value] : g_neumann)
-                if (bid == id)
-                  zeta = value;
-              const bool pressed =
-                  column ? id == wall_id : (id == outer_id && prm.geometry.shape == "annulus row");
-              if (!pressed && zeta == 0.)
-                continue;
-              face.reinit(cell, f);
-              for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                {
-                  const double dA = face.JxW(q) * (dim == 3 ? 1. : face.quadrature_point(q)[0]);
-                  for (unsigned int i = 0; i < dofs.size(); ++i)
-                    {
-                      const unsigned int component = fe.system_to_component_index(i).first;
-                      const double       N         = face.shape_value(i, q);
-                      if (pressed && component == (column ? 2U : 0U))
-                        r_local[i] += (column ? -1. : 1.) * N * scale.P_wall * dA;
-                      if (component == 3)
-                        r_local[i] -= N * zeta * dA;
-                    }
-                }
-            }
-
-          for (unsigned int i = 0; i < dofs.size(); ++i)
-            unconstrained_residual[dofs[i]] += r_local[i];
-          if (with_jacobian)
-            newton_constraints.distribute_local_to_global(J_local, r_local, dofs, jacobian,
-                                                          residual);
-          else
-            newton_constraints.distribute_local_to_global(r_local, dofs, residual);
+          in.u.resize(n_nodes);
+          in.g.resize(n_nodes);
         }
+        Scratch(const Scratch &other)
+            : face(other.face.get_fe(), other.face.get_quadrature(), other.face.get_update_flags())
+            , in(other.in)
+        {
+        }
+        FEFaceValues<dim> face;
+        ElementInput      in;
+        ElementOutput     eo;
+      };
+      struct Copy
+      {
+        std::vector<types::global_dof_index> dofs;
+        Vector<double>                       r_local;
+        FullMatrix<double>                   J_local;
+        double                               force_scale = 0., fluidity_scale = 0.;
+      };
+      double force_scale = 0., fluidity_scale = 0.;
+
+      const auto worker = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
+                              Scratch &scratch, Copy &copy) {
+        ElementInput  &in = scratch.in;
+        ElementOutput &eo = scratch.eo;
+        copy.dofs.resize(n_dofs);
+        copy.r_local.reinit(n_dofs);
+        if (with_jacobian)
+          copy.J_local.reinit(n_dofs, n_dofs);
+        cell->get_dof_indices(copy.dofs);
+        for (unsigned int i = 0; i < n_dofs; ++i)
+          {
+            const unsigned int k = kernel_index[i];
+            if (k % 4 == 3)
+              in.g[k / 4] = U[copy.dofs[i]];
+            else
+              in.u[k / 4][k % 4] = U[copy.dofs[i]];
+          }
+        const unsigned int c = cell->active_cell_index();
+        in.dt                = dt;
+        // (27): gravity into the bed (+z) for the column, along -z for the annulus
+        in.body_force = Tensor<1, 3>({0., 0., column ? scale.body_force : -scale.body_force});
+        in.Fp_n       = Fp_n[c];
+        element.evaluate(shapes[c], in, with_jacobian, eo);
+        points[c] = eo.points;
+
+        copy.force_scale = copy.fluidity_scale = 0.;
+        for (unsigned int a = 0; a < n_nodes; ++a)
+          {
+            copy.force_scale = std::max(
+                copy.force_scale, std::sqrt(eo.magnitude[4 * a] * eo.magnitude[4 * a] +
+                                            eo.magnitude[4 * a + 1] * eo.magnitude[4 * a + 1] +
+                                            eo.magnitude[4 * a + 2] * eo.magnitude[4 * a + 2]));
+            copy.fluidity_scale = std::max(copy.fluidity_scale, eo.magnitude[4 * a + 3]);
+          }
+        for (unsigned int i = 0; i < n_dofs; ++i)
+          {
+            copy.r_local[i] = eo.residual[kernel_index[i]];
+            if (with_jacobian)
+              for (unsigned int j = 0; j < n_dofs; ++j)
+                copy.J_local(i, j) = eo.jacobian(kernel_index[i], kernel_index[j]);
+          }
+
+        // (35): external traction and fluidity flux, per unit reference area (per radian for the
+        // annulus: dA = R dZ). The shear column's wall presses along +z on z = 0; the annulus
+        // row's outer wall presses along -e_r.
+        for (const unsigned int f : cell->face_indices())
+          {
+            if (!cell->face(f)->at_boundary())
+              continue;
+            const types::boundary_id id   = cell->face(f)->boundary_id();
+            double                   zeta = 0.;
+            for (const auto &[bid, value] : g_neumann)
+              if (bid == id)
+                zeta = value;
+            const bool pressed =
+                column ? id == wall_id : (id == outer_id && prm.geometry.shape == "annulus row");
+            if (!pressed && zeta == 0.)
+              continue;
+            FEFaceValues<dim> &face = scratch.face;
+            face.reinit(cell, f);
+            for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+              {
+                const double dA = face.JxW(q) * (dim == 3 ? 1. : face.quadrature_point(q)[0]);
+                for (unsigned int i = 0; i < n_dofs; ++i)
+                  {
+                    const unsigned int component = fe.system_to_component_index(i).first;
+                    const double       N         = face.shape_value(i, q);
+                    if (pressed && component == (column ? 2U : 0U))
+                      copy.r_local[i] += (column ? -1. : 1.) * N * scale.P_wall * dA;
+                    if (component == 3)
+                      copy.r_local[i] -= N * zeta * dA;
+                  }
+              }
+          }
+      };
+      const auto copier = [&](const Copy &copy) {
+        force_scale    = std::max(force_scale, copy.force_scale);
+        fluidity_scale = std::max(fluidity_scale, copy.fluidity_scale);
+        for (unsigned int i = 0; i < copy.dofs.size(); ++i)
+          unconstrained_residual[copy.dofs[i]] += copy.r_local[i];
+        if (with_jacobian)
+          newton_constraints.distribute_local_to_global(copy.J_local, copy.r_local, copy.dofs,
+                                                        jacobian, residual);
+        else
+          newton_constraints.distribute_local_to_global(copy.r_local, copy.dofs, residual);
+      };
+      WorkStream::run(dof_handler.begin_active(), dof_handler.end(), worker, copier,
+                      Scratch(fe, face_quadrature, n_nodes), Copy());
 
       // Henann 6.1: L_inf norms of the assembled residuals, each normalised by an element-level
       // nodal contribution to it. The paper takes the average; here it is the largest magnitude of
@@ -725,15 +758,15 @@ namespace granflow::ngf
           const double step = loading ? 0. : std::min(du, scale.u_end - u_wall);
           const double dt   = (loading ? du : step) / scale.v_wall;
           // Predictor: continue the last increment's motion (the steady flow is then almost exact).
-          // The slice turns about z, so its x and y rates are kept as (dr/dt, dphi/dt) of each node:
-          // a linear extrapolation of Cartesian displacements would cut the chord of the arc, an
-          // error of R dphi^2 / 2 that exceeds the elastic strains at the wall.
+          // The slice turns about z, so its x and y rates are kept as (dr/dt, dphi/dt) of each
+          // node: a linear extrapolation of Cartesian displacements would cut the chord of the arc,
+          // an error of R dphi^2 / 2 that exceeds the elastic strains at the wall.
           U = U_n;
           for (types::global_dof_index i = 0; i < U.size(); ++i)
             if (slice && dof_component[i] == 0)
               {
-                const Point<dim> &X   = dof_point[i];
-                const double      x   = X[0] + U_n[i], y = X[1] + U_n[i + 1];
+                const Point<dim> &X = dof_point[i];
+                const double      x = X[0] + U_n[i], y = X[1] + U_n[i + 1];
                 const double      r   = std::hypot(x, y) + rate[i] * dt;
                 const double      phi = std::atan2(y, x) + rate[i + 1] * dt;
                 U[i]                  = r * std::cos(phi) - X[0];
@@ -777,12 +810,14 @@ namespace granflow::ngf
                 for (types::global_dof_index i = 0; i < U.size(); ++i)
                   if (dof_component[i] == 0)
                     {
-                      // (dr/dt, dphi/dt) in place of (du_x/dt, du_y/dt); x and y dofs of a node are adjacent
-                      const Point<dim> &X = dof_point[i];
+                      // (dr/dt, dphi/dt) in place of (du_x/dt, du_y/dt); x and y dofs of a node are
+                      // adjacent
+                      const Point<dim> &X  = dof_point[i];
                       const double      x1 = X[0] + U[i], y1 = X[1] + U[i + 1];
                       const double      x0 = X[0] + U_n[i], y0 = X[1] + U_n[i + 1];
-                      rate[i]              = (std::hypot(x1, y1) - std::hypot(x0, y0)) / dt;
-                      rate[i + 1]          = std::remainder(std::atan2(y1, x1) - std::atan2(y0, x0), 2. * M_PI) / dt;
+                      rate[i] = (std::hypot(x1, y1) - std::hypot(x0, y0)) / dt;
+                      rate[i + 1] =
+                          std::remainder(std::atan2(y1, x1) - std::atan2(y0, x0), 2. * M_PI) / dt;
                     }
               u_wall += step;
               mu_wall_previous = mu_wall;
