@@ -4,7 +4,7 @@
 #    v_wall/sqrt(Gd) = 1e-3 (wall displacement d); fluidity Dirichlet boundary 'wall';
 #  - GEOMETRY = annulus: the annulus row at R_i/d = 60, R_i Omega sqrt(rho_s/P_wall) = 1e-3 (4
 #    degrees); fluidity Dirichlet boundary 'inner wall'. u is the circumferential displacement
-#    r theta (u_r is not in the profile; it is 4 orders smaller).
+#    r theta (u_r is not in the velocity profile and is left out).
 # h/d = 1, 2/3, 5/9, 1/3, 2/9, 1/9 (and 1/18, 1/45 for (b), whose wall boundary layer the coarse
 # meshes do not resolve: the paper too uses "the finer range of mesh resolutions" there), against
 # an FE "exact" solution on a fine mesh:
