@@ -230,6 +230,15 @@ namespace granflow::ngf
           for (unsigned int i = 0; i < dofs.size(); ++i)
             dof_component[dofs[i]] = fe.system_to_component_index(i).first;
         }
+      // The velocity of the quad (v_theta = r dtheta/dt), the slice's predictor and its moment
+      // address the dofs of a node as i, i + 1, ...: the four dofs of a node must be numbered
+      // together, in component order (deal.II's default for a single-base FESystem).
+      for (types::global_dof_index i = 0; i < dof_handler.n_dofs(); ++i)
+        if (dof_component[i] == 0)
+          for (unsigned int c = 1; c < 4; ++c)
+            AssertThrow(i + c < dof_handler.n_dofs() && dof_component[i + c] == c &&
+                            dof_point[i + c] == dof_point[i],
+                        ExcMessage("ngf: the dofs of a node are expected to be numbered together"));
       make_constraints(newton_constraints, 0., true);
       DynamicSparsityPattern dsp(dof_handler.n_dofs());
       DoFTools::make_sparsity_pattern(dof_handler, dsp, newton_constraints, false);
@@ -680,7 +689,7 @@ namespace granflow::ngf
         {
           // the moment about z of the wall's x- and y-reactions at the nodes' current positions
           // (the radial reactions have a lever arm once the wall has turned), per radian of the
-          // slice; the dofs of a node are numbered together, x before y
+          // slice; the dofs of a node are numbered together, x before y (checked in the constructor)
           double moment = 0.;
           for (const auto i :
                DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {wall_id}))
@@ -719,11 +728,8 @@ namespace granflow::ngf
           if (dof_component[i] == twist)
             {
               // v_theta = r dtheta/dt with r = R + u_r of the same node (dofs of a node are
-              // consecutive in component order for this single-base FESystem)
-              const types::global_dof_index radial = i - twist;
-              AssertThrow(dof_component[radial] == 0 && dof_point[radial] == dof_point[i],
-                          ExcMessage("the dofs of a node are expected to be numbered together"));
-              v[i] *= dof_point[i][0] + U[radial];
+              // consecutive in component order)
+              v[i] *= dof_point[i][0] + U[i - twist]; // checked in the constructor
             }
       return v;
     }
