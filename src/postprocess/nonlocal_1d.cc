@@ -49,6 +49,25 @@ namespace granflow::postprocess
     // The velocity comes from the far wall (v = 0) by the trapezoidal rule on dv/dx = -gamma_dot
     // (cartesian, paper_dv_dr) or, for exact Couette kinematics, on d omega/dr = -gamma_dot / r
     // with omega(R_o) = 0 and v = r omega.
+    /// W: the distance from x.front() where v first falls to v_wall / e (linear between nodes);
+    /// NaN if nothing flows.
+    void
+    set_shear_band_width(Nonlocal1dProfile &profile)
+    {
+      const auto &x = profile.x, &v = profile.v;
+      profile.shear_band_width = std::numeric_limits<double>::quiet_NaN();
+      if (profile.v_wall <= 0.)
+        return;
+      const double v_e = profile.v_wall * std::exp(-1.);
+      for (std::size_t i = 1; i < x.size(); ++i)
+        if (v[i] <= v_e)
+          {
+            const double t           = (v[i - 1] - v_e) / (v[i - 1] - v[i]);
+            profile.shear_band_width = x[i - 1] + t * (x[i] - x[i - 1]) - x.front();
+            return;
+          }
+    }
+
     void
     complete_profile(Nonlocal1dProfile &profile, const rheology::NonlocalParameters &m,
                      const Coordinates1d coordinates, const bool couette_omega)
@@ -86,18 +105,7 @@ namespace granflow::postprocess
       profile.v_wall = profile.v.front();
       // v decreases monotonically from the driven wall (g >= 0: the discrete operator is an
       // M-matrix and g_loc >= 0), so the first crossing of v_wall / e is the only one.
-      profile.shear_band_width = std::numeric_limits<double>::quiet_NaN();
-      if (profile.v_wall > 0.)
-        {
-          const double v_e = profile.v_wall * std::exp(-1.);
-          for (std::size_t i = 1; i < n; ++i)
-            if (profile.v[i] <= v_e)
-              {
-                const double t = (profile.v[i - 1] - v_e) / (profile.v[i - 1] - profile.v[i]);
-                profile.shear_band_width = x[i - 1] + t * (x[i] - x[i - 1]) - x.front();
-                break;
-              }
-        }
+      set_shear_band_width(profile);
     }
 
     // mu_wall such that v_wall(mu_wall) = target. v_wall is 0 for mu_wall <= mu_s and grows like a
@@ -289,6 +297,162 @@ namespace granflow::postprocess
     return find_mu_wall(
         [&](const double mu_wall) { return solve_linear_shear_gravity(problem, mu_wall); },
         problem.material.mu_s, v_wall, "linear shear with gravity (Henann 90)");
+  }
+
+  Nonlocal1dProfile
+  solve_linear_shear_gravity_galerkin(const LinearShearGravity1d &problem,
+                                      const unsigned int n_elements, const double v_wall,
+                                      const Nonlocal1dProfile &start)
+  {
+    const std::string where = "Galerkin reduction of linear shear with gravity (Henann 34, 90)";
+    check_material(problem.material, where);
+    require(n_elements >= 2, where + ": at least 2 elements needed");
+    require(v_wall > 0., where + ": v_wall must be > 0");
+    require(start.x.size() >= 2 && start.mu_wall > problem.material.mu_s,
+            where + ": the start must be a flowing solution of (90)");
+    const auto  &m        = problem.material;
+    const auto   N        = n_elements;
+    const double h        = problem.depth / N;
+    const double gauss[2] = {0.5 - 0.5 / std::sqrt(3.), 0.5 + 0.5 / std::sqrt(3.)}; // in [0, 1]
+    const auto   pressure = [&](const double z) {
+      return problem.P_wall + problem.phi * m.rho_s * problem.G * z;
+    };
+    const auto interpolate = [](const std::vector<double> &x, const std::vector<double> &y,
+                                const double at) {
+      const auto k =
+          std::min<std::size_t>(std::upper_bound(x.begin(), x.end(), at) - x.begin(), x.size() - 1);
+      const std::size_t i = k == 0 ? 0 : k - 1;
+      const double      t = (at - x[i]) / (x[i + 1] - x[i]);
+      return (1. - t) * y[i] + t * y[i + 1];
+    };
+
+    // Unknowns: the nodal g (scaled by g_scale) and mu_wall = tau_wall / P_wall.
+    const double        g_scale = start.g.front();
+    std::vector<double> x(N + 2);
+    for (unsigned int a = 0; a <= N; ++a)
+      x[a] = interpolate(start.x, start.g, a * h) / g_scale;
+    x[N + 1] = start.mu_wall;
+
+    // Element shear rate: mu_q = gammadot / g_q and (mu_1 p_1 + mu_2 p_2) / 2 = tau_wall.
+    const auto element_rate = [&](const std::vector<double> &y, const unsigned int e, double g_q[2],
+                                  double p_q[2]) {
+      for (unsigned int q = 0; q < 2; ++q)
+        {
+          g_q[q] = std::max(g_scale * ((1. - gauss[q]) * y[e] + gauss[q] * y[e + 1]), 1e-300);
+          p_q[q] = pressure((e + gauss[q]) * h);
+        }
+      return 2. * y[N + 1] * problem.P_wall / (p_q[0] / g_q[0] + p_q[1] / g_q[1]);
+    };
+    // (34)_2 per node (scaled by h / g_scale) and the wall speed (scaled by 1 / v_wall).
+    const auto residual = [&](const std::vector<double> &y) {
+      std::vector<double> r(N + 2, 0.);
+      double              speed = 0.;
+      for (unsigned int e = 0; e < N; ++e)
+        {
+          double       g_q[2], p_q[2];
+          const double rate = element_rate(y, e, g_q, p_q);
+          speed += rate * h;
+          const double slope = g_scale * (y[e + 1] - y[e]) / h;
+          r[e] -= slope;
+          r[e + 1] += slope;
+          for (unsigned int q = 0; q < 2; ++q)
+            {
+              const double mu = rate / g_q[q];
+              const double xi = rheology::cooperativity_length(mu, m).value;
+              const double f = (g_q[q] - rheology::local_fluidity(p_q[q], mu, m).value) / (xi * xi);
+              r[e] += 0.5 * h * (1. - gauss[q]) * f;
+              r[e + 1] += 0.5 * h * gauss[q] * f;
+            }
+        }
+      for (unsigned int a = 0; a <= N; ++a)
+        r[a] *= h / g_scale;
+      r[N + 1] = speed / v_wall - 1.;
+      return r;
+    };
+    const auto norm = [](const std::vector<double> &r) {
+      double s = 0.;
+      for (const double v : r)
+        s += v * v;
+      return std::sqrt(s);
+    };
+
+    std::vector<double> r = residual(x);
+    for (unsigned int it = 0; norm(r) > 1e-12; ++it)
+      {
+        require(it < 50, where + ": Newton did not converge");
+        // Jacobian by central differences, then Gaussian elimination with partial pivoting.
+        const std::size_t                n = x.size();
+        std::vector<std::vector<double>> J(n, std::vector<double>(n + 1));
+        for (std::size_t j = 0; j < n; ++j)
+          {
+            const double        step = 1e-7 * std::max(std::abs(x[j]), 1e-3);
+            std::vector<double> xp = x, xm = x;
+            xp[j] += step;
+            xm[j] -= step;
+            const auto rp = residual(xp), rm = residual(xm);
+            for (std::size_t i = 0; i < n; ++i)
+              J[i][j] = (rp[i] - rm[i]) / (2. * step);
+          }
+        for (std::size_t i = 0; i < n; ++i)
+          J[i][n] = -r[i];
+        for (std::size_t c = 0; c < n; ++c)
+          {
+            std::size_t pivot = c;
+            for (std::size_t i = c + 1; i < n; ++i)
+              if (std::abs(J[i][c]) > std::abs(J[pivot][c]))
+                pivot = i;
+            std::swap(J[c], J[pivot]);
+            require(J[c][c] != 0., where + ": singular Jacobian");
+            for (std::size_t i = c + 1; i < n; ++i)
+              {
+                const double f = J[i][c] / J[c][c];
+                for (std::size_t k = c; k <= n; ++k)
+                  J[i][k] -= f * J[c][k];
+              }
+          }
+        std::vector<double> dx(n);
+        for (std::size_t i = n; i-- > 0;)
+          {
+            double s = J[i][n];
+            for (std::size_t k = i + 1; k < n; ++k)
+              s -= J[i][k] * dx[k];
+            dx[i] = s / J[i][i];
+          }
+        double t = 1.;
+        for (;; t *= 0.5)
+          {
+            require(t > 1e-6, where + ": no descent along the Newton step");
+            std::vector<double> trial = x;
+            for (std::size_t i = 0; i < n; ++i)
+              trial[i] += t * dx[i];
+            const auto r_trial = residual(trial);
+            if (norm(r_trial) < (1. - 1e-4 * t) * norm(r))
+              {
+                x = trial;
+                r = r_trial;
+                break;
+              }
+          }
+      }
+
+    Nonlocal1dProfile profile;
+    profile.mu_wall = x[N + 1];
+    profile.v.assign(N + 1, 0.);
+    for (unsigned int e = N; e-- > 0;)
+      {
+        double g_q[2], p_q[2];
+        profile.v[e] = profile.v[e + 1] + element_rate(x, e, g_q, p_q) * h;
+      }
+    for (unsigned int a = 0; a <= N; ++a)
+      {
+        profile.x.push_back(a * h);
+        profile.g.push_back(g_scale * x[a]);
+        profile.p.push_back(pressure(a * h));
+        profile.mu.push_back(profile.mu_wall * problem.P_wall / profile.p.back());
+      }
+    profile.v_wall = profile.v.front();
+    set_shear_band_width(profile);
+    return profile;
   }
 
   Nonlocal1dProfile

@@ -50,6 +50,22 @@ namespace granflow::postprocess
   Nonlocal1dProfile
   solve_linear_shear_gravity_for_speed(const LinearShearGravity1d &problem, double v_wall);
 
+  /// The steady state of the paper's own discretization of (90), reduced to 1D: n_elements
+  /// linear elements (32)-(35) with 2-point Gauss, z in [0, depth]. At steady state the plastic
+  /// shear rate equals the total one at every Gauss point, g_q mu_q = gammadot_e (20), with
+  /// gammadot_e constant in the element and g_q interpolated; equilibrium in weak form makes the
+  /// Gauss average of tau = mu p the same in every element; the fluidity residual is (34)_2 with
+  /// g_loc (22) and xi (24) at the Gauss points, homogeneous Neumann at both ends; the element
+  /// shear rates add up to v_wall. Elasticity and finite strain are left out. The FE solution on a
+  /// coarse mesh should agree with this, not with the FD solution: it separates the discretization
+  /// error of the method (about 0.05 v_wall at h = d) from errors of an implementation.
+  /// Solved by Newton (difference Jacobian, backtracking) from `start`, a solution of (90) with
+  /// the same data (for example solve_linear_shear_gravity_for_speed); throws if Newton fails.
+  /// Returns the nodal profile (x, g, v, and mu, p at the nodes from tau_wall / p).
+  Nonlocal1dProfile
+  solve_linear_shear_gravity_galerkin(const LinearShearGravity1d &problem, unsigned int n_elements,
+                                      double v_wall, const Nonlocal1dProfile &start);
+
   /// Shear rate of the annular cell. exact: Couette kinematics, gamma_dot = -r d(v/r)/dr, with
   /// omega = v / r = 0 at R_o. paper_dv_dr: gamma_dot = -dv/dr, v(R_o) = 0, as Henann 6.2 has it.
   enum class CouetteKinematics
