@@ -4,6 +4,7 @@
 // closed form of homogeneous shear (no gravity: constant g, linear v), the speed shooting, and the
 // paper's observations (mu_wall -> mu_s and the rate-independent plateau of W at low speed).
 #include "postprocess/nonlocal_1d.h"
+#include "support/reference_profile.h"
 
 #include <gtest/gtest.h>
 
@@ -343,6 +344,45 @@ namespace
         EXPECT_NEAR(again.v_wall / target, 1., 1e-9) << "v_wall / sqrt(G d) = " << rate;
         EXPECT_EQ(profile.v.back(), 0.);
       }
+  }
+
+  // The steady Galerkin reduction of (34) converges to the FD solution of (90) as the elements
+  // shrink (measured: 0.0515, 0.0091, 0.0010 of v_wall at h/d = 1, 1/3, 1/9, about second
+  // order), reproduces the wall speed, and at h/d = 1/9 has the FD's band width (0.04 %) and
+  // mu_wall (0.12 %).
+  TEST(LinearShear, GalerkinReductionConvergesToTheFiniteDifferenceSolution)
+  {
+    const LinearShearGravity1d problem = paper_linear_shear();
+    const double               d       = problem.material.d;
+    const double               v_wall  = 1e-3 * linear_shear_speed_scale(problem);
+    const Nonlocal1dProfile    fd      = solve_linear_shear_gravity_for_speed(problem, v_wall);
+    std::vector<double>        error;
+    for (const unsigned int n : {20U, 60U, 180U}) // h/d = 1, 1/3, 1/9
+      {
+        const Nonlocal1dProfile g = solve_linear_shear_gravity_galerkin(problem, n, v_wall, fd);
+        EXPECT_NEAR(g.v_wall / v_wall, 1., 1e-9);
+        std::vector<double> x_over_d, v_over_v_wall;
+        for (std::size_t a = 0; a < g.x.size(); ++a)
+          {
+            x_over_d.push_back(g.x[a] / d);
+            v_over_v_wall.push_back(g.v[a] / g.v_wall);
+          }
+        const double worst = test::max_difference_to_reference(x_over_d, v_over_v_wall, fd, d);
+        error.push_back(worst);
+        std::cout << "Galerkin reduction, h/d = " << 20. / n
+                  << ": max |v - v_FD| / v_wall = " << worst << ", mu_wall " << g.mu_wall << " (FD "
+                  << fd.mu_wall << "), W/d " << g.shear_band_width / d << " (FD "
+                  << fd.shear_band_width / d << ")\n";
+        if (n == 180U)
+          {
+            EXPECT_NEAR(g.mu_wall, fd.mu_wall, 2e-3 * fd.mu_wall);
+            EXPECT_NEAR(g.shear_band_width, fd.shear_band_width, 0.005 * fd.shear_band_width);
+          }
+      }
+    EXPECT_GT(error[0], 0.04); // h = d: the method's own coarse-mesh error
+    EXPECT_LT(error[1], error[0] / 4.);
+    EXPECT_LT(error[2], error[1] / 4.);
+    EXPECT_LT(error[2], 0.002);
   }
 
   TEST(AnnularShear, ShootingReproducesWallSpeed)
