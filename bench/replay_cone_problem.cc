@@ -6,6 +6,7 @@
 
 #include <cstdlib>
 #include <iostream>
+#include <sstream>
 
 int
 main(int argc, char **argv)
@@ -14,11 +15,12 @@ main(int argc, char **argv)
   if (argc < 2)
     {
       std::cerr << "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg ...]\n"
-                   "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n";
+                   "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints "
+                   "tables)\n";
       return 2;
     }
-  const ConeProblemData data      = load_cone_problem(argv[1]);
-  const double          tolerance = argc > 2 ? std::stod(argv[2]) : 1e-6;
+  const ConeProblemData    data      = load_cone_problem(argv[1]);
+  const double             tolerance = argc > 2 ? std::stod(argv[2]) : 1e-6;
   std::vector<std::string> names;
   for (int i = 3; i < argc; ++i)
     names.emplace_back(argv[i]);
@@ -39,7 +41,24 @@ main(int argc, char **argv)
         options.log = &std::cerr;
       ConeSolution solution;
       const auto   stats = solve_cone_problem(data, options, solution);
+      // Wall time at which the residual first fell to each decade (null: never): how far the
+      // fixed point gets, and how fast, when it stalls short of the tolerance.
+      nlohmann::json reached = nlohmann::json::object();
+      for (const double level : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6})
+        {
+          nlohmann::json t = nullptr;
+          for (std::size_t k = 0; k < stats.residual_history.size(); ++k)
+            if (stats.residual_history[k] <= level)
+              {
+                t = stats.time_factorize + stats.time_history[k];
+                break;
+              }
+          std::ostringstream key;
+          key << level;
+          reached[key.str()] = t;
+        }
       results.push_back({{"inner_solver", name},
+                         {"time_to_residual_s", reached},
                          {"converged", stats.converged},
                          {"residual", stats.residual},
                          {"tolerance", tolerance},

@@ -472,7 +472,9 @@ namespace granflow::solvers
       AndersonAcceleration anderson(options.anderson_depth);
       double       inner_factor          = options.inner_tolerance_factor;
       unsigned int last_inner_iterations = 0, stalls = 0;
-      const auto t1           = Clock::now();
+      double     best_residual = std::numeric_limits<double>::infinity();
+      Vector     best_lambda, best_gamma; // the iterate of least residual so far
+      const auto t1 = Clock::now();
       for (;;)
         {
           // gamma = W lambda + w (Algorithm 1, first line)
@@ -482,6 +484,12 @@ namespace granflow::solvers
           stats.residual = K.residual(options.residual, state.x, gamma);
           stats.residual_history.push_back(stats.residual);
           stats.time_history.push_back(seconds_since(t1));
+          if (!(stats.residual >= best_residual)) // also replaces a NaN
+            {
+              best_residual = stats.residual;
+              best_lambda   = state.x;
+              best_gamma    = gamma;
+            }
           if (options.log)
             *options.log << std::setw(7) << stats.outer_iterations << std::setw(14) << std::scientific
                          << std::setprecision(4) << stats.residual << std::setw(8)
@@ -540,9 +548,12 @@ namespace granflow::solvers
         }
       stats.time_solve            = seconds_since(t1);
       stats.operator_applications = W.applications;
-      solution.lambda             = state.x;
-      solution.gamma              = gamma;
-      W.velocity_of(solution.u, state.x);
+      // Not converged: the fixed point is not monotone (4.4.1), so the last iterate need not be the
+      // best one; the iterate of least residual is returned.
+      stats.residual  = best_residual;
+      solution.lambda = std::move(best_lambda);
+      solution.gamma  = std::move(best_gamma);
+      W.velocity_of(solution.u, solution.lambda);
       return stats;
     }
   } // namespace
