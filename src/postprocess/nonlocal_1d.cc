@@ -45,10 +45,6 @@ namespace granflow::postprocess
       return x;
     }
 
-    // Fills g (linear solve of (90)/(92) for the known mu, p), gamma_dot = g mu (20), v and W.
-    // The velocity comes from the far wall (v = 0) by the trapezoidal rule on dv/dx = -gamma_dot
-    // (cartesian, paper_dv_dr) or, for exact Couette kinematics, on d omega/dr = -gamma_dot / r
-    // with omega(R_o) = 0 and v = r omega.
     /// W: the distance from x.front() where v first falls to v_wall / e (linear between nodes);
     /// NaN if nothing flows.
     void
@@ -68,6 +64,10 @@ namespace granflow::postprocess
           }
     }
 
+    // Fills g (linear solve of (90)/(92) for the known mu, p), gamma_dot = g mu (20), v and W.
+    // The velocity comes from the far wall (v = 0) by the trapezoidal rule on dv/dx = -gamma_dot
+    // (cartesian, paper_dv_dr) or, for exact Couette kinematics, on d omega/dr = -gamma_dot / r
+    // with omega(R_o) = 0 and v = r omega.
     void
     complete_profile(Nonlocal1dProfile &profile, const rheology::NonlocalParameters &m,
                      const Coordinates1d coordinates, const bool couette_omega)
