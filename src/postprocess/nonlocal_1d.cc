@@ -45,6 +45,24 @@ namespace granflow::postprocess
       return x;
     }
 
+    /// The data of (90) that every solver of it needs.
+    void
+    check_linear_shear(const LinearShearGravity1d &problem, const std::string &where)
+    {
+      check_material(problem.material, where);
+      require(problem.phi > 0., where + ": phi must be > 0");
+      require(problem.G >= 0., where + ": G must be >= 0");
+      require(problem.P_wall > 0., where + ": P_wall must be > 0");
+      require(problem.depth > 0., where + ": depth must be > 0");
+    }
+
+    /// (90): p = P_wall + phi rho_s G z at depth z.
+    double
+    linear_shear_pressure(const LinearShearGravity1d &problem, const double z)
+    {
+      return problem.P_wall + problem.phi * problem.material.rho_s * problem.G * z;
+    }
+
     /// W: the distance from x.front() where v first falls to v_wall / e (linear between nodes);
     /// NaN if nothing flows.
     void
@@ -268,24 +286,19 @@ namespace granflow::postprocess
   solve_linear_shear_gravity(const LinearShearGravity1d &problem, const double mu_wall)
   {
     const std::string where = "linear shear with gravity (Henann 90)";
-    check_material(problem.material, where);
-    require(problem.phi > 0., where + ": phi must be > 0");
-    require(problem.G >= 0., where + ": G must be >= 0");
-    require(problem.P_wall > 0., where + ": P_wall must be > 0");
-    require(problem.depth > 0., where + ": depth must be > 0");
+    check_linear_shear(problem, where);
     require(problem.h > 0., where + ": grid step h must be > 0");
     require(problem.h <= 0.5 * problem.depth, where + ": grid step h must be <= depth / 2");
     require(mu_wall >= 0. && std::isfinite(mu_wall), where + ": mu_wall must be >= 0");
 
     Nonlocal1dProfile profile;
-    profile.mu_wall    = mu_wall;
-    profile.x          = uniform_grid(0., problem.depth, problem.h);
-    const double rho_g = problem.phi * problem.material.rho_s * problem.G;
+    profile.mu_wall = mu_wall;
+    profile.x       = uniform_grid(0., problem.depth, problem.h);
     for (const double z : profile.x)
       {
         // (90)_2,3: tau = mu_wall P_wall everywhere, p grows with the weight of the grains above.
-        profile.p.push_back(problem.P_wall + rho_g * z);
-        profile.mu.push_back(mu_wall / (1. + rho_g * z / problem.P_wall));
+        profile.p.push_back(linear_shear_pressure(problem, z));
+        profile.mu.push_back(mu_wall * problem.P_wall / profile.p.back());
       }
     complete_profile(profile, problem.material, Coordinates1d::cartesian, false);
     return profile;
@@ -305,19 +318,17 @@ namespace granflow::postprocess
                                       const Nonlocal1dProfile &start)
   {
     const std::string where = "Galerkin reduction of linear shear with gravity (Henann 34, 90)";
-    check_material(problem.material, where);
+    check_linear_shear(problem, where);
     require(n_elements >= 2, where + ": at least 2 elements needed");
     require(v_wall > 0., where + ": v_wall must be > 0");
     require(start.x.size() >= 2 && start.mu_wall > problem.material.mu_s,
             where + ": the start must be a flowing solution of (90)");
-    const auto  &m        = problem.material;
-    const auto   N        = n_elements;
-    const double h        = problem.depth / N;
-    const double gauss[2] = {0.5 - 0.5 / std::sqrt(3.), 0.5 + 0.5 / std::sqrt(3.)}; // in [0, 1]
-    const auto   pressure = [&](const double z) {
-      return problem.P_wall + problem.phi * m.rho_s * problem.G * z;
-    };
-    const auto interpolate = [](const std::vector<double> &x, const std::vector<double> &y,
+    const auto  &m           = problem.material;
+    const auto   N           = n_elements;
+    const double h           = problem.depth / N;
+    const double gauss[2]    = {0.5 - 0.5 / std::sqrt(3.), 0.5 + 0.5 / std::sqrt(3.)}; // in [0, 1]
+    const auto   pressure    = [&](const double z) { return linear_shear_pressure(problem, z); };
+    const auto   interpolate = [](const std::vector<double> &x, const std::vector<double> &y,
                                 const double at) {
       const auto k =
           std::min<std::size_t>(std::upper_bound(x.begin(), x.end(), at) - x.begin(), x.size() - 1);
