@@ -32,6 +32,20 @@ namespace granflow::test
       }
     return worst;
   }
+  /// The same for a computed 1D profile (nodes from its wall, v / v_wall) against the reference.
+  inline double
+  max_difference_to_reference(const postprocess::Nonlocal1dProfile &profile,
+                              const postprocess::Nonlocal1dProfile &reference, const double d)
+  {
+    std::vector<double> x_over_d, v;
+    for (std::size_t a = 0; a < profile.x.size(); ++a)
+      {
+        x_over_d.push_back((profile.x[a] - profile.x.front()) / d);
+        v.push_back(profile.v[a] / profile.v_wall);
+      }
+    return max_difference_to_reference(x_over_d, v, reference, d);
+  }
+
   /// Issue #3 a, b: a run's profiles/velocity.csv within 0.03 of the wall speed of the reference at
   /// every node, mu_wall within 1 %, W / d within 5 %, and at most 6 Newton iterations per
   /// increment.
