@@ -484,10 +484,7 @@ namespace granflow::ngf
               in.u[k / 4][k % 4] = U[copy.dofs[i]];
           }
         const unsigned int c = cell->active_cell_index();
-        in.dt                = dt;
-        // (27): gravity into the bed (+z) for the column, along -z for the annulus
-        in.body_force = Tensor<1, 3>({0., 0., column ? scale.body_force : -scale.body_force});
-        in.Fp_n       = Fp_n[c];
+        in.Fp_n              = Fp_n[c];
         element.evaluate(shapes[c], in, with_jacobian, eo);
         points[c] = eo.points;
 
@@ -552,8 +549,12 @@ namespace granflow::ngf
         else
           newton_constraints.distribute_local_to_global(copy.r_local, copy.dofs, residual);
       };
-      WorkStream::run(dof_handler.begin_active(), dof_handler.end(), worker, copier,
-                      Scratch(fe, face_quadrature, n_nodes), Copy());
+      Scratch sample(fe, face_quadrature, n_nodes); // dt and b_0 are the same for every element
+      sample.in.dt = dt;
+      // (27): gravity into the bed (+z) for the column, along -z for the annulus
+      sample.in.body_force = Tensor<1, 3>({0., 0., column ? scale.body_force : -scale.body_force});
+      WorkStream::run(dof_handler.begin_active(), dof_handler.end(), worker, copier, sample,
+                      Copy());
 
       // Henann 6.1: L_inf norms of the assembled residuals, each normalised by an element-level
       // nodal contribution to it. The paper takes the average; here it is the largest magnitude of
@@ -689,7 +690,8 @@ namespace granflow::ngf
         {
           // the moment about z of the wall's x- and y-reactions at the nodes' current positions
           // (the radial reactions have a lever arm once the wall has turned), per radian of the
-          // slice; the dofs of a node are numbered together, x before y (checked in the constructor)
+          // slice; the dofs of a node are numbered together, x before y (checked in the
+          // constructor)
           double moment = 0.;
           for (const auto i :
                DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {wall_id}))
