@@ -96,23 +96,22 @@ import matplotlib.pyplot as plt
 col = lambda rows, k: [float(r[k]) for r in rows]
 rate = [r for r in csv.DictReader(open(sys.argv[1]))]
 pres = [r for r in csv.DictReader(open(sys.argv[2]))]
-fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
-v = col(rate, "v_wall_over_sqrt_Gd")
-for ax, fe, fd, label in ((axs[0], "W_over_d", "W_over_d_fd", "W/d"), (axs[1], "mu_wall", "mu_wall_fd", "mu_wall")):
-    ax.semilogx(v, col(rate, fd), "k-", label="FD (90)")
-    ax.semilogx(v, col(rate, fe), "o", mfc="none", label="FE, h/d = 1/3")
-    ax.set_xlabel("v_wall / sqrt(G d)"); ax.set_ylabel(label); ax.grid(alpha=0.3, which="both"); ax.legend()
-axs[1].axhline(0.3819, color="gray", ls=":", lw=1)
-fig.suptitle("Henann & Kamrin 2016 Fig. 1b, 1c insets: P_wall / phi rho_s G d = 6.67")
-fig.tight_layout(); fig.savefig(f"{sys.argv[3]}/linear_shear_rate.png", dpi=130)
-fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
-x = col(pres, "phi_rho_s_G_d_over_P_wall")
-for ax, fe, fd, label in ((axs[0], "W_over_d", "W_over_d_fd", "W/d"), (axs[1], "mu_wall", "mu_wall_fd", "mu_wall")):
-    ax.semilogx(x, col(pres, fd), "k-", label="FD (90)")
-    ax.semilogx(x, col(pres, fe), "o", mfc="none", label="FE, h/d = 1/3")
-    ax.set_xlabel("phi rho_s G d / P_wall"); ax.set_ylabel(label); ax.grid(alpha=0.3, which="both"); ax.legend()
-fig.suptitle("Henann & Kamrin 2016 Fig. 1d inset: v_wall / sqrt(G d) = 1e-3")
-fig.tight_layout(); fig.savefig(f"{sys.argv[3]}/linear_shear_pressure.png", dpi=130)
+def insets(rows, x_key, x_label, title, name, mu_s_line):
+    """W/d and mu_wall against x, FE markers over the FD line."""
+    fig, axs = plt.subplots(1, 2, figsize=(10, 4.2))
+    x = col(rows, x_key)
+    for ax, fe, fd, label in ((axs[0], "W_over_d", "W_over_d_fd", "W/d"), (axs[1], "mu_wall", "mu_wall_fd", "mu_wall")):
+        ax.semilogx(x, col(rows, fd), "k-", label="FD (90)")
+        ax.semilogx(x, col(rows, fe), "o", mfc="none", label="FE, h/d = 1/3")
+        ax.set_xlabel(x_label); ax.set_ylabel(label); ax.grid(alpha=0.3, which="both"); ax.legend()
+    if mu_s_line:
+        axs[1].axhline(0.3819, color="gray", ls=":", lw=1)
+    fig.suptitle(title)
+    fig.tight_layout(); fig.savefig(f"{sys.argv[3]}/{name}.png", dpi=130)
+insets(rate, "v_wall_over_sqrt_Gd", "v_wall / sqrt(G d)",
+       "Henann & Kamrin 2016 Fig. 1b, 1c insets: P_wall / phi rho_s G d = 6.67", "linear_shear_rate", True)
+insets(pres, "phi_rho_s_G_d_over_P_wall", "phi rho_s G d / P_wall",
+       "Henann & Kamrin 2016 Fig. 1d inset: v_wall / sqrt(G d) = 1e-3", "linear_shear_pressure", False)
 PY
 echo "$rate_csv"
 echo "$pressure_csv"
