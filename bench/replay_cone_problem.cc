@@ -14,7 +14,8 @@ main(int argc, char **argv)
   using namespace granflow::solvers;
   if (argc < 2)
     {
-      std::cerr << "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg ...]\n"
+      std::cerr << "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg|ip ...]\n"
+                   "  (ip: the interior-point method on the whole problem)\n"
                    "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints "
                    "tables)\n";
       return 2;
@@ -30,7 +31,10 @@ main(int argc, char **argv)
   for (const auto &name : names)
     {
       ConeSolverOptions options;
-      options.inner_solver         = parse_inner_solver(name);
+      if (name == "ip")
+        options.method = ConeMethod::interior_point;
+      else
+        options.inner_solver = parse_inner_solver(name);
       options.tolerance            = tolerance;
       options.residual             = ResidualKind::fischer_burmeister;
       options.max_outer_iterations = 1000;
@@ -57,7 +61,8 @@ main(int argc, char **argv)
           key << level;
           reached[key.str()] = t;
         }
-      results.push_back({{"inner_solver", name},
+      results.push_back({{"method", name == "ip" ? "interior point" : "fixed point"},
+                         {"inner_solver", name == "ip" ? "" : name},
                          {"time_to_residual_s", reached},
                          {"converged", stats.converged},
                          {"residual", stats.residual},

@@ -39,6 +39,12 @@ namespace granflow::solvers
     spg                 // spectral projected gradient, Barzilai-Borwein steps (Tasora 2013)
   };
 
+  enum class ConeMethod
+  {
+    fixed_point,   // Cadoux's fixed point on s (Algorithm 1) with an inner SOCQP solver
+    interior_point // primal-dual interior point on the whole problem (mu > 0, Bi = 0 only)
+  };
+
   enum class ResidualKind
   {
     alart_curnier,     // Definition 2, valid for any Bi
@@ -47,10 +53,11 @@ namespace granflow::solvers
 
   struct ConeSolverOptions
   {
-    InnerSolver  inner_solver = InnerSolver::spg;
+    ConeMethod   method       = ConeMethod::fixed_point;
+    InnerSolver  inner_solver = InnerSolver::spg; // fixed point only
     ResidualKind residual     = ResidualKind::fischer_burmeister; // AC is used where Bi > 0
     double       tolerance    = 1e-6;  // infinity norm of the residual over the constraint points
-    unsigned int max_outer_iterations = 200;
+    unsigned int max_outer_iterations = 200; // fixed-point or interior-point iterations
     unsigned int max_inner_iterations = 300; // per fixed-point iteration: the outer loop goes on from the warm start
     /// The inner SOCQP (37) is solved to inner_tolerance_factor times the current outer residual
     /// (never below tolerance / 1000): early fixed-point iterations need no accurate inner solve.
@@ -68,7 +75,8 @@ namespace granflow::solvers
     bool         converged            = false;
     unsigned int outer_iterations     = 0;
     unsigned int inner_iterations     = 0; // summed over the outer iterations
-    unsigned int operator_applications = 0; // applications of W (one A^{-1} back-solve each)
+    unsigned int operator_applications = 0; // applications of W (one A^{-1} back-solve each);
+                                            // interior point: factorisations of its Newton matrix
     double       residual             = 0.;
     double       time_factorize       = 0.; // seconds
     double       time_solve           = 0.; // seconds
@@ -89,6 +97,15 @@ namespace granflow::solvers
   /// A is factorised once; W is applied without being assembled.
   ConeSolverStats
   solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution);
+
+  /// The whole problem (35) by a primal-dual interior-point method (cone_interior_point.cc): the
+  /// complementarity of Corollary 1 followed along its central path, De Saxce's term mu ||gamma_T||
+  /// linearised inside each Newton step. Requires mu > 0 and Bi = 0 at every point (throws
+  /// std::invalid_argument otherwise). Called by solve_cone_problem for ConeMethod::interior_point.
+  ConeSolverStats
+  solve_cone_problem_interior_point(const ConeProblemData   &data,
+                                    const ConeSolverOptions &options,
+                                    ConeSolution            &solution);
 
   /// Residual of DP(mu, Bi) at every point, infinity norm over the points of the Euclidean norms.
   double

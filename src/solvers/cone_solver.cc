@@ -561,6 +561,8 @@ namespace granflow::solvers
   ConeSolverStats
   solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
   {
+    if (options.method == ConeMethod::interior_point)
+      return solve_cone_problem_interior_point(data, options, solution);
     if (data.block_size == 3)
       return solve_blocks<3>(data, options, solution);
     if (data.block_size == 6)

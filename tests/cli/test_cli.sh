@@ -54,6 +54,7 @@ bad mesh-size-zero "Geometry/Mesh size" --set "Geometry/Mesh size=0"
 bad mesh-size-negative "Mesh size" --set "Geometry/Mesh size=-0.1"
 bad missing-mesh-file "no_such_mesh.msh" --set "Geometry/Shape=file" --set "Geometry/Mesh file=no_such_mesh.msh"
 bad missing-boundary "lid" --set "Boundary conditions/No-slip=bottom, lid"
+bad interior-point-needs-mu "Solver/Method" --set "Solver/Method=interior point"
 check missing-case 2 "nosuch.prm" "$GRANFLOW" run nosuch.prm --output keep
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   nothing lost"; passes=$((passes + 1));
 else echo "FAIL bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi

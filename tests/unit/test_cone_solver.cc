@@ -1,4 +1,5 @@
-// Cadoux fixed point + PG / APGD / SPG on cone problems with a known solution.
+// Cadoux fixed point + PG / APGD / SPG, and the interior-point method, on cone problems with a
+// known solution.
 #include "rheology/drucker_prager.h"
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
@@ -161,6 +162,165 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
   ASSERT_TRUE(solve_cone_problem(data, reference_options, reference).converged);
   for (std::size_t i = 0; i < n; ++i)
     EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6);
+}
+
+namespace
+{
+  /// One constraint point in s(d) = n components with A = H = I (so W = I, gamma = lambda + w,
+  /// w = l) and Bi = 0: the disjunctive solution of (4)/(13), take-off, sticking or sliding, in any
+  /// block size; returns which case (0, 1, 2).
+  template <std::size_t n>
+  int
+  single_point_solution(const std::array<double, n> &w, const double mu,
+                        std::array<double, n> &lambda)
+  {
+    double wT = 0.;
+    for (std::size_t j = 1; j < n; ++j)
+      wT += w[j] * w[j];
+    wT = std::sqrt(wT);
+    lambda.fill(0.);
+    if (w[0] >= 0.)
+      return 0;
+    lambda[0] = -w[0];
+    for (std::size_t j = 1; j < n; ++j)
+      lambda[j] = mu * -w[0] >= wT ? -w[j] : -mu * lambda[0] * w[j] / wT;
+    return mu * -w[0] >= wT ? 1 : 2;
+  }
+
+  template <std::size_t n>
+  void
+  check_interior_point_single_points(const unsigned int seed)
+  {
+    std::mt19937                           rng(seed);
+    std::uniform_real_distribution<double> U(-1., 1.);
+    int                                    cases[3] = {0, 0, 0};
+    std::vector<std::vector<double>>       I(n, std::vector<double>(n, 0.));
+    for (std::size_t i = 0; i < n; ++i)
+      I[i][i] = 1.;
+    for (int trial = 0; trial < 100; ++trial)
+      {
+        const double          mu = 0.2 + 0.8 * std::abs(U(rng));
+        std::array<double, n> w;
+        for (std::size_t j = 0; j < n; ++j) // every other trial a small w_T, so that sticking
+          w[j] =
+              (j > 0 && trial % 2 ? 0.2 : 1.) * U(rng); // occurs with 5 tangential components too
+        ConeProblemData data;
+        data.block_size = n;
+        data.A          = dense_to_csr(I);
+        data.H          = dense_to_csr(I);
+        data.l.assign(w.begin(), w.end());
+        data.k.assign(n, 0.);
+        data.mu = {mu};
+        data.Bi = {0.};
+        ConeSolverOptions options;
+        options.method    = ConeMethod::interior_point;
+        options.tolerance = 1e-9;
+        ConeSolution       solution;
+        std::ostringstream log;
+        options.log      = &log;
+        const auto stats = solve_cone_problem(data, options, solution);
+        ASSERT_TRUE(stats.converged) << "trial " << trial << " mu " << mu << "\n" << log.str();
+        std::array<double, n> expected;
+        ++cases[single_point_solution(w, mu, expected)];
+        for (std::size_t c = 0; c < n; ++c)
+          EXPECT_NEAR(solution.lambda[c], expected[c], 1e-7) << "trial " << trial << " mu " << mu;
+      }
+    for (const int c : cases) // take-off, sticking and sliding are all exercised
+      EXPECT_GT(c, 0);
+  }
+} // namespace
+
+TEST(ConeInteriorPoint, SinglePointMatchesDisjunctiveSolution2D)
+{
+  check_interior_point_single_points<3>(7);
+}
+
+TEST(ConeInteriorPoint, SinglePointMatchesDisjunctiveSolution3D)
+{
+  check_interior_point_single_points<6>(8);
+}
+
+TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
+{
+  // The coupled random problem above (10 dofs, 3 points, mu = 0.3, 0.5, 0.8): the interior point
+  // on the whole problem and Cadoux's fixed point find the same u (unique, 4.4.4), and lambda
+  // satisfies the rheology with gamma recomputed from u.
+  std::mt19937                           rng(11);
+  std::uniform_real_distribution<double> U(-1., 1.);
+  const std::size_t                      n = 10, points = 3;
+  std::vector<std::vector<double>> G(n, std::vector<double>(n)), A(n, std::vector<double>(n, 0.));
+  for (auto &row : G)
+    for (double &g : row)
+      g = U(rng);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j)
+      {
+        for (std::size_t k = 0; k < n; ++k)
+          A[i][j] += G[i][k] * G[j][k];
+        A[i][j] += i == j ? 0.5 : 0.;
+      }
+  std::vector<std::vector<double>> H(points * 3, std::vector<double>(n));
+  for (auto &row : H)
+    for (double &h : row)
+      h = U(rng);
+  ConeProblemData data;
+  data.block_size = 3;
+  data.A          = dense_to_csr(A);
+  data.H          = dense_to_csr(H);
+  for (std::size_t i = 0; i < n; ++i)
+    data.l.push_back(U(rng));
+  data.k.assign(points * 3, 0.);
+  data.mu = {0.3, 0.5, 0.8};
+  data.Bi = {0., 0., 0.};
+
+  // Tolerance 1e-7: at a point where lambda and gamma_hat both vanish the residual decreases only
+  // like the square root of the duality gap; this problem stops at 1.1e-8 with a gap of 3e-14.
+  ConeSolverOptions options;
+  options.method    = ConeMethod::interior_point;
+  options.tolerance = 1e-7;
+  std::ostringstream log;
+  options.log = &log;
+  ConeSolution solution;
+  const auto   stats = solve_cone_problem(data, options, solution);
+  ASSERT_TRUE(stats.converged) << log.str();
+
+  std::vector<double> gamma, rhs, u;
+  data.H.vmult(gamma, solution.u);
+  data.H.Tvmult(rhs, solution.lambda);
+  for (std::size_t i = 0; i < n; ++i)
+    rhs[i] += data.l[i];
+  CholmodSolver(data.A).solve(u, rhs);
+  for (std::size_t i = 0; i < n; ++i)
+    EXPECT_NEAR(u[i], solution.u[i], 1e-8);
+  EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-7);
+
+  ConeSolverOptions reference_options;
+  reference_options.inner_solver = InnerSolver::projected_gradient;
+  reference_options.tolerance    = 1e-9;
+  ConeSolution reference;
+  ASSERT_TRUE(solve_cone_problem(data, reference_options, reference).converged);
+  for (std::size_t i = 0; i < n; ++i)
+    EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6);
+}
+
+TEST(ConeInteriorPoint, RejectsPointsOutsideItsScope)
+{
+  // mu = 0 (K_0 is a ray) and Bi > 0 (truncated cone) are the fixed point's.
+  for (const auto &[mu, Bi] : {std::pair{0., 0.}, std::pair{0.5, 0.1}})
+    {
+      ConeProblemData data;
+      data.block_size = 3;
+      data.A          = dense_to_csr(identity(3));
+      data.H          = dense_to_csr(identity(3));
+      data.l          = {-1., 0.2, 0.};
+      data.k          = {0., 0., 0.};
+      data.mu         = {mu};
+      data.Bi         = {Bi};
+      ConeSolverOptions options;
+      options.method = ConeMethod::interior_point;
+      ConeSolution solution;
+      EXPECT_THROW(solve_cone_problem(data, options, solution), std::invalid_argument);
+    }
 }
 
 TEST(ConeProblemIO, DumpAndLoadRoundTrip)

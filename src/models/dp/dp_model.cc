@@ -381,6 +381,9 @@ namespace granflow::dp
     Problem::solve_cone_problem()
     {
       solvers::ConeSolverOptions options;
+      options.method               = prm.solver.method == "interior point" ?
+                                       solvers::ConeMethod::interior_point :
+                                       solvers::ConeMethod::fixed_point;
       options.inner_solver         = solvers::parse_inner_solver(prm.solver.inner_solver);
       options.residual             = prm.solver.residual == "alart-curnier" ?
                                        solvers::ResidualKind::alart_curnier :
@@ -392,7 +395,7 @@ namespace granflow::dp
       options.log                  = &log.table();
       options.progress             = [this](const unsigned int k, const double r) {
         std::ostringstream s;
-        s << "fixed-point iteration " << k << ": residual " << r << " (target "
+        s << prm.solver.method << " iteration " << k << ": residual " << r << " (target "
           << prm.solver.tolerance << ")";
         log.progress(s.str());
       };
@@ -476,7 +479,8 @@ namespace granflow::dp
             eta[k] = std::sqrt(eta[k] * eta_new[k]);
         }
 
-      solver_json = {{"inner_solver", prm.solver.inner_solver},
+      solver_json = {{"method", prm.solver.method},
+                     {"inner_solver", prm.solver.inner_solver},
                      {"residual_kind", prm.solver.residual},
                      {"tolerance", prm.solver.tolerance},
                      {"converged", stats.converged},
@@ -497,8 +501,10 @@ namespace granflow::dp
       if (!stats.converged)
         {
           std::ostringstream s;
-          s << "the Cadoux fixed point did not reach the tolerance " << prm.solver.tolerance
-            << " (residual " << stats.residual << " after " << stats.outer_iterations
+          s << "the "
+            << (prm.solver.method == "interior point" ? "interior-point method" : "Cadoux fixed point")
+            << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
+            << stats.residual << " after " << stats.outer_iterations
             << " iterations; raise Solver/Max outer iterations or Max inner iterations). "
             << "The last iterate was written to " << out.target();
           throw ConvergenceError(s.str());

@@ -90,6 +90,13 @@ namespace granflow::dp
                         "triangle (Property 3); P1: continuous P1 stress, constraints at the nodes "
                         "(trapezoidal rule, 4.3.5).",
                         Selection("P1d|P1"));
+      prm.add_parameter("Method", s.method,
+                        "fixed point: Cadoux's fixed point on s = mu |gamma_T| (Algorithm 1), each "
+                        "step a cone QP solved by the inner solver; any mu >= 0, Bi >= 0. interior "
+                        "point: primal-dual interior point on the whole problem (mu > 0, Bi = 0 "
+                        "only); reaches tight tolerances where the fixed point stalls, but can lose "
+                        "its central path on fine meshes (docs/solvers.md).",
+                        Selection("fixed point|interior point"));
       prm.add_parameter("Inner solver", s.inner_solver,
                         "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
                         "spg (spectral projected gradient).",
@@ -145,6 +152,9 @@ namespace granflow::dp
     require_positive(geometry.mesh_size, f, "Geometry/Mesh size");
     require_positive(rheology.Re, f, "Rheology/Re");
     require_positive(solver.tolerance, f, "Solver/Tolerance");
+    if (solver.method == "interior point" && !(rheology.mu > 0. && rheology.Bi == 0.))
+      throw InputError(f, "Solver/Method",
+                       "= interior point needs Rheology/mu > 0 and Rheology/Bi = 0; use fixed point");
     if (geometry.shape == "file" && geometry.mesh_file.empty())
       throw InputError(f, "Geometry/Mesh file", "is empty: Shape = file needs a .msh file");
     if (rheology.viscosity == "bagnold")

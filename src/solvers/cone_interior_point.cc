@@ -1,0 +1,633 @@
+// Primal-dual interior-point method for the whole DP(mu, 0) problem (35), with De Saxce's term
+// inside the Newton step. Daviet & Bertails-Descoubes 2016 solve (35) by Cadoux's fixed point on
+// s = mu ||gamma_T|| (Algorithm 1), each step a convex SOCQP (37)/(39); on the mu = 0.5 silo of 6.4
+// that fixed point is not a contraction. Here the unknowns are (u, lambda) and the complementarity
+//   K_mu \ni lambda _|_ gamma_hat = gamma + mu ||gamma_T|| e_N \in K_{1/mu}        (Corollary 1)
+// is followed along its central path, lambda o gamma_hat = tau e with tau -> 0 (Jordan product of
+// the second-order cone). In the coordinates of K_1 (as for f_FB):
+//   sl = D gamma_hat(u) in K_1,  z in K_1 with lambda = D z,  D = diag(1, mu, ..., mu),
+//   A u - H^T D z = l                         (35a)
+//   sl - D (gamma(u) + s(u) e_N) = 0,  gamma = H u + k,  s = mu ||gamma_T||
+//   sl o z = tau e.
+// Each iteration is a Mehrotra predictor-corrector step with Nesterov-Todd scaling W (W sl = W^-1
+// z) (Nesterov & Todd 1997; Vandenberghe, "The CVXOPT linear and quadratic cone program solvers",
+// 2010). The derivative of s(u) enters the Jacobian, which is therefore unsymmetric:
+//   [ A        -H^T D ] [du]   [ l + H^T D z - A u        ]
+//   [ -B H     -W^-2  ] [dz] = [ r_z - W^-1 c             ],   B = D (I + e_N sigma^T),
+// sigma = (0, mu gamma_T / ||gamma_T||), r_z = D gamma_hat(u) - sl, and W dsl + W^-1 dz = c. With
+// sigma = 0 the matrix is symmetric quasi-definite. This augmented system is factorised (UMFPACK,
+// diagonal pivots) rather than reduced to A + H^T D W^2 B H: near the solution W^2 spans many
+// decades and the reduced system loses the accuracy the last decades of the residual need
+// (measured: the reduced form stalls at a residual of 1.3e-6 on the 673-vertex silo).
+#include "rheology/drucker_prager.h"
+#include "solvers/cone_problem.h"
+#include "solvers/umfpack_solver.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+
+namespace granflow::solvers
+{
+  namespace
+  {
+    using Vector = std::vector<double>;
+    using Clock  = std::chrono::steady_clock;
+
+    /// Jordan algebra of the second-order cone K_1 = {x_0 >= ||x_bar||} in R^n.
+    template <std::size_t n> struct Soc
+    {
+      using Block  = std::array<double, n>;
+      using Matrix = std::array<std::array<double, n>, n>;
+
+      static double
+      bar_norm(const Block &x)
+      {
+        double s = 0.;
+        for (std::size_t j = 1; j < n; ++j)
+          s += x[j] * x[j];
+        return std::sqrt(s);
+      }
+
+      /// x^T J y, J = diag(1, -1, ..., -1)
+      static double
+      jdot(const Block &x, const Block &y)
+      {
+        double s = x[0] * y[0];
+        for (std::size_t j = 1; j < n; ++j)
+          s -= x[j] * y[j];
+        return s;
+      }
+
+      static double
+      dot(const Block &x, const Block &y)
+      {
+        double s = 0.;
+        for (std::size_t j = 0; j < n; ++j)
+          s += x[j] * y[j];
+        return s;
+      }
+
+      /// x o y = (x . y, x_0 y_bar + y_0 x_bar)
+      static Block
+      product(const Block &x, const Block &y)
+      {
+        Block r;
+        r[0] = dot(x, y);
+        for (std::size_t j = 1; j < n; ++j)
+          r[j] = x[0] * y[j] + y[0] * x[j];
+        return r;
+      }
+
+      /// v with lambda o v = r (lambda in the interior of K_1)
+      static Block
+      arrow_solve(const Block &lambda, const Block &r)
+      {
+        Block  v;
+        double lr = 0.;
+        for (std::size_t j = 1; j < n; ++j)
+          lr += lambda[j] * r[j];
+        v[0] = (lambda[0] * r[0] - lr) / jdot(lambda, lambda);
+        for (std::size_t j = 1; j < n; ++j)
+          v[j] = (r[j] - v[0] * lambda[j]) / lambda[0];
+        return v;
+      }
+
+      /// x^p by the spectral decomposition, x in the interior of K_1. The small eigenvalue
+      /// x_0 - ||x_bar|| is computed as det(x) / (x_0 + ||x_bar||), without cancellation.
+      static Block
+      power(const Block &x, const double p)
+      {
+        const double nb = bar_norm(x), big = x[0] + nb;
+        const double small = (x[0] - nb) * big > 0. ? jdot(x, x) / big : 0.;
+        const double a = std::pow(small, p), b = std::pow(big, p);
+        Block        r;
+        r[0] = 0.5 * (a + b);
+        for (std::size_t j = 1; j < n; ++j)
+          r[j] = nb > 0. ? 0.5 * (b - a) * x[j] / nb : 0.;
+        return r;
+      }
+
+      /// Quadratic representation P(x) = 2 x x^T - det(x) J.
+      static Matrix
+      quadratic_representation(const Block &x)
+      {
+        const double det = jdot(x, x);
+        Matrix       P;
+        for (std::size_t a = 0; a < n; ++a)
+          for (std::size_t b = 0; b < n; ++b)
+            P[a][b] = 2. * x[a] * x[b] - (a == b ? (a == 0 ? det : -det) : 0.);
+        return P;
+      }
+
+      static Block
+      apply(const Matrix &M, const Block &x)
+      {
+        Block r{};
+        for (std::size_t a = 0; a < n; ++a)
+          for (std::size_t b = 0; b < n; ++b)
+            r[a] += M[a][b] * x[b];
+        return r;
+      }
+
+      static Matrix
+      multiply(const Matrix &M, const Matrix &N)
+      {
+        Matrix r{};
+        for (std::size_t a = 0; a < n; ++a)
+          for (std::size_t c = 0; c < n; ++c)
+            for (std::size_t b = 0; b < n; ++b)
+              r[a][b] += M[a][c] * N[c][b];
+        return r;
+      }
+
+      /// Nesterov-Todd scaling of (s, z): the scaling point w with P(w) z = s, W = P(w^-1/2),
+      /// W^-1 = P(w^1/2); then W s = W^-1 z.
+      static void
+      nesterov_todd(const Block &s, const Block &z, Matrix &W, Matrix &W_inv)
+      {
+        const Matrix Ps = quadratic_representation(power(s, 0.5));
+        const Block  w  = apply(Ps, power(apply(Ps, z), -0.5));
+        W               = quadratic_representation(power(w, -0.5));
+        W_inv           = quadratic_representation(power(w, 0.5));
+      }
+
+      static bool
+      interior(const Block &x)
+      {
+        return x[0] > 0. && jdot(x, x) > 0.;
+      }
+
+      /// Largest t with x + t d in K_1 (x interior): the first positive root of det(x + t d).
+      static double
+      max_step(const Block &x, const Block &d)
+      {
+        const double a = jdot(d, d), b = 2. * jdot(x, d), c = jdot(x, x);
+        double       t = std::numeric_limits<double>::infinity();
+        if (d[0] < 0.)
+          t = -x[0] / d[0];
+        if (std::abs(a) <= 1e-14 * (std::abs(b) + std::abs(c)))
+          {
+            if (b < 0.)
+              t = std::min(t, -c / b);
+            return t;
+          }
+        const double disc = b * b - 4. * a * c;
+        if (disc < 0.)
+          return t;
+        const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b)); // stable roots q/a, c/q
+        for (const double r : {q / a, q != 0. ? c / q : -1.})
+          if (r > 0.)
+            t = std::min(t, r);
+        return t;
+      }
+    };
+
+    template <std::size_t n> class InteriorPoint
+    {
+      using S      = Soc<n>;
+      using Block  = typename S::Block;
+      using Matrix = typename S::Matrix;
+
+    public:
+      InteriorPoint(const ConeProblemData &data, const ConeSolverOptions &options)
+          : data(data)
+          , options(options)
+          , n_u(data.A.n_rows)
+          , n_points(data.n_points())
+          , m(n_points * n)
+          , lu(true)
+      {
+        for (std::size_t i = 0; i < n_points; ++i)
+          if (!(data.mu[i] > 0.) || data.Bi[i] != 0.)
+            throw std::invalid_argument(
+                "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
+                "(use the Cadoux fixed point otherwise)");
+        build_pattern();
+      }
+
+      ConeSolverStats
+      solve(ConeSolution &solution)
+      {
+        ConeSolverStats stats;
+        const auto      t0 = Clock::now();
+        Vector          u, sl(m), z(m);
+        initial_point(u, sl, z, solution);
+
+        if (options.log)
+          *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
+                       << "   iter      residual           gap       primal         dual      step"
+                          "      time[s]\n";
+        double       best = std::numeric_limits<double>::infinity();
+        Vector       best_u, best_lambda, best_gamma, lambda(m), gamma(m);
+        double       step        = 0.;
+        unsigned int short_steps = 0;
+        for (;;)
+          {
+            evaluate(u, sl, z);
+            for (std::size_t k = 0; k < m; ++k)
+              lambda[k] = D(k) * z[k];
+            stats.residual       = cone_residual(data, options.residual, lambda, gamma_u);
+            const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+            stats.residual_history.push_back(stats.residual);
+            stats.time_history.push_back(elapsed);
+            if (!(stats.residual >= best))
+              {
+                best        = stats.residual;
+                best_u      = u;
+                best_lambda = lambda;
+                best_gamma  = gamma_u;
+              }
+            if (options.log)
+              *options.log << std::setw(7) << stats.outer_iterations << std::setw(14)
+                           << std::scientific << std::setprecision(4) << stats.residual
+                           << std::setw(14) << gap << std::setw(13) << norm_inf(r_z)
+                           << std::setw(13) << norm_inf(r_x) << std::setw(10) << std::fixed
+                           << std::setprecision(4) << step << std::setw(13) << std::setprecision(3)
+                           << elapsed << std::endl
+                           << std::defaultfloat;
+            if (options.progress)
+              options.progress(stats.outer_iterations, stats.residual);
+            if (stats.residual <= options.tolerance)
+              {
+                stats.converged = true;
+                break;
+              }
+            if (stats.outer_iterations == options.max_outer_iterations ||
+                (options.max_seconds > 0. && elapsed > options.max_seconds))
+              break;
+            step        = newton_step(u, sl, z);
+            short_steps = step < 1e-4 ? short_steps + 1 : 0;
+            ++stats.outer_iterations;
+            // No step keeps the iterate interior (rounding has taken over), or the iterates have
+            // left the central path and only crawl: stop with the best iterate.
+            if (step == 0. || short_steps == 5)
+              break;
+          }
+        stats.time_solve            = std::chrono::duration<double>(Clock::now() - t0).count();
+        stats.operator_applications = factorizations;
+        stats.residual              = best;
+        solution.u                  = std::move(best_u);
+        solution.lambda             = std::move(best_lambda);
+        solution.gamma              = std::move(best_gamma);
+        return stats;
+      }
+
+    private:
+      double
+      D(const std::size_t k) const
+      {
+        return k % n == 0 ? 1. : data.mu[k / n];
+      }
+
+      static double
+      norm_inf(const Vector &v)
+      {
+        double r = 0.;
+        for (const double x : v)
+          r = std::max(r, std::abs(x));
+        return r;
+      }
+
+      Block
+      block(const Vector &x, const std::size_t i) const
+      {
+        Block b;
+        std::copy_n(x.begin() + i * n, n, b.begin());
+        return b;
+      }
+
+      static void
+      set_block(Vector &x, const std::size_t i, const Block &b)
+      {
+        std::copy(b.begin(), b.end(), x.begin() + i * n);
+      }
+
+      /// The Newton matrix [A, -H^T D; B H, W^-2] in CSR. Its pattern is fixed: the rows of a
+      /// constraint point all take the union of the columns of the point's rows of H.
+      void
+      build_pattern()
+      {
+        CsrMatrix Ht; // H^T, to fill the -H^T D block row by row
+        Ht.n_rows = data.H.n_cols;
+        Ht.n_cols = data.H.n_rows;
+        Ht.row_start.assign(Ht.n_rows + 1, 0);
+        for (const int c : data.H.column)
+          ++Ht.row_start[c + 1];
+        for (std::size_t r = 0; r < Ht.n_rows; ++r)
+          Ht.row_start[r + 1] += Ht.row_start[r];
+        Ht.column.resize(data.H.column.size());
+        Ht.value.resize(data.H.column.size());
+        std::vector<int> next(Ht.row_start.begin(), Ht.row_start.end() - 1);
+        for (std::size_t r = 0; r < data.H.n_rows; ++r)
+          for (int k = data.H.row_start[r]; k < data.H.row_start[r + 1]; ++k)
+            {
+              const int p  = next[data.H.column[k]]++;
+              Ht.column[p] = static_cast<int>(r);
+              Ht.value[p]  = data.H.value[k];
+            }
+
+        point_columns.resize(n_points);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            auto &cols = point_columns[i];
+            for (std::size_t a = 0; a < n; ++a)
+              for (int k = data.H.row_start[i * n + a]; k < data.H.row_start[i * n + a + 1]; ++k)
+                cols.push_back(data.H.column[k]);
+            std::sort(cols.begin(), cols.end());
+            cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
+          }
+
+        K.n_rows = K.n_cols = n_u + m;
+        K.row_start.assign(1, 0);
+        for (std::size_t r = 0; r < n_u; ++r)
+          {
+            for (int k = data.A.row_start[r]; k < data.A.row_start[r + 1]; ++k)
+              {
+                K.column.push_back(data.A.column[k]);
+                K.value.push_back(data.A.value[k]);
+              }
+            for (int k = Ht.row_start[r]; k < Ht.row_start[r + 1]; ++k)
+              {
+                K.column.push_back(static_cast<int>(n_u) + Ht.column[k]);
+                K.value.push_back(-D(Ht.column[k]) * Ht.value[k]);
+              }
+            K.row_start.push_back(static_cast<int>(K.column.size()));
+          }
+        for (std::size_t i = 0; i < n_points; ++i)
+          for (std::size_t a = 0; a < n; ++a)
+            {
+              for (const int c : point_columns[i])
+                K.column.push_back(c);
+              for (std::size_t b = 0; b < n; ++b)
+                K.column.push_back(static_cast<int>(n_u + i * n + b));
+              K.row_start.push_back(static_cast<int>(K.column.size()));
+            }
+        K.value.resize(K.column.size(), 0.);
+
+        // Dense copy of each point's rows of H on its column union: H_i (n x |cols|).
+        point_H.resize(n_points);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            const auto &cols = point_columns[i];
+            point_H[i].assign(n * cols.size(), 0.);
+            for (std::size_t a = 0; a < n; ++a)
+              for (int k = data.H.row_start[i * n + a]; k < data.H.row_start[i * n + a + 1]; ++k)
+                {
+                  const auto c =
+                      std::lower_bound(cols.begin(), cols.end(), data.H.column[k]) - cols.begin();
+                  point_H[i][a * cols.size() + c] += data.H.value[k];
+                }
+          }
+      }
+
+      /// Fills the constraint rows of K: -B_i H_i (B = D (I + e_N sigma^T)) and -W_i^-2.
+      void
+      fill_constraint_rows(const std::vector<Block> &sigma, const std::vector<Matrix> &W_inv2)
+      {
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            const auto       &cols = point_columns[i];
+            const std::size_t nc   = cols.size();
+            const double     *Hi   = point_H[i].data();
+            for (std::size_t a = 0; a < n; ++a)
+              {
+                double *row = &K.value[K.row_start[n_u + i * n + a]];
+                for (std::size_t c = 0; c < nc; ++c)
+                  {
+                    double v;
+                    if (a == 0)
+                      {
+                        v = Hi[c];
+                        for (std::size_t b = 1; b < n; ++b)
+                          v += sigma[i][b] * Hi[b * nc + c];
+                      }
+                    else
+                      v = data.mu[i] * Hi[a * nc + c];
+                    row[c] = -v;
+                  }
+                for (std::size_t b = 0; b < n; ++b)
+                  row[nc + b] = -W_inv2[i][a][b];
+              }
+          }
+      }
+
+      /// gamma(u) = H u + k, s(u), the residuals r_x = l + H^T D z - A u and
+      /// r_z = D (gamma + s e_N) - sl, and the duality gap sl . z.
+      void
+      evaluate(const Vector &u, const Vector &sl, const Vector &z)
+      {
+        data.H.vmult(gamma_u, u);
+        for (std::size_t k = 0; k < m; ++k)
+          gamma_u[k] += data.k[k];
+        r_z.resize(m);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            const Block  g = block(gamma_u, i);
+            const double s = data.mu[i] * S::bar_norm(g);
+            for (std::size_t a = 0; a < n; ++a)
+              r_z[i * n + a] = (a == 0 ? g[0] + s : data.mu[i] * g[a]) - sl[i * n + a];
+          }
+        Vector Dz(m), Au;
+        for (std::size_t k = 0; k < m; ++k)
+          Dz[k] = D(k) * z[k];
+        data.H.Tvmult(r_x, Dz);
+        data.A.vmult(Au, u);
+        for (std::size_t k = 0; k < n_u; ++k)
+          r_x[k] += data.l[k] - Au[k];
+        gap = 0.;
+        for (std::size_t k = 0; k < m; ++k)
+          gap += sl[k] * z[k];
+      }
+
+      /// Pushes each block of x into the interior of K_1: x_0 += max(0, ||x_bar|| - x_0) + margin.
+      void
+      make_interior(Vector &x, const double margin) const
+      {
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            Block b = block(x, i);
+            b[0] += std::max(0., S::bar_norm(b) - b[0]) + margin;
+            set_block(x, i, b);
+          }
+      }
+
+      /// Starting point as in CVXOPT's coneqp: the least-squares solution with W = I, i.e.
+      /// (A + H^T D^2 H) u = l - H^T D^2 k, then sl = D gamma_hat(u) and z = -sl, each pushed
+      /// into the interior of K_1.
+      void
+      initial_point(Vector &u, Vector &sl, Vector &z, const ConeSolution &)
+      {
+        std::vector<Block>  sigma(n_points, Block{});
+        std::vector<Matrix> identity(n_points, Matrix{});
+        for (auto &I : identity)
+          for (std::size_t a = 0; a < n; ++a)
+            I[a][a] = 1.;
+        fill_constraint_rows(sigma, identity);
+        // sigma = 0 and B = D: the second block row reads -D H u - v = D k.
+        Vector rhs(n_u + m, 0.), x;
+        std::copy(data.l.begin(), data.l.end(), rhs.begin());
+        for (std::size_t k = 0; k < m; ++k)
+          rhs[n_u + k] = D(k) * data.k[k];
+        lu.factorize(K);
+        ++factorizations;
+        lu.solve(x, rhs);
+        u.assign(x.begin(), x.begin() + n_u);
+        evaluate(u, Vector(m, 0.), Vector(m, 0.)); // r_z = D gamma_hat(u)
+        sl = r_z;
+        z  = r_z;
+        for (double &v : z)
+          v = -v;
+        make_interior(sl, 1e-3);
+        make_interior(z, 1e-3 * std::max(1., norm_inf(z)));
+      }
+
+      /// Largest step in [0, 1] along (dsl, dz) that keeps every block interior.
+      double
+      max_step(const Vector &sl, const Vector &dsl, const Vector &z, const Vector &dz) const
+      {
+        double t = 1.;
+        for (std::size_t i = 0; i < n_points; ++i)
+          t = std::min({t, S::max_step(block(sl, i), block(dsl, i)),
+                        S::max_step(block(z, i), block(dz, i))});
+        return t;
+      }
+
+      /// One Mehrotra predictor-corrector step; returns the step length taken (0: none).
+      double
+      newton_step(Vector &u, Vector &sl, Vector &z)
+      {
+        // evaluate() was called at (u, sl, z): gamma_u, r_x, r_z, gap are current.
+        std::vector<Block>  sigma(n_points), lambda(n_points);
+        std::vector<Matrix> W(n_points), W_inv(n_points), W_inv2(n_points);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            const Block  g  = block(gamma_u, i);
+            const double gt = S::bar_norm(g);
+            sigma[i]        = Block{};
+            for (std::size_t b = 1; b < n; ++b)
+              sigma[i][b] = gt > 0. ? data.mu[i] * g[b] / gt : 0.; // a subgradient at gamma_T = 0
+            S::nesterov_todd(block(sl, i), block(z, i), W[i], W_inv[i]);
+            W_inv2[i] = S::multiply(W_inv[i], W_inv[i]);
+            lambda[i] = S::apply(W[i], block(sl, i));
+          }
+        fill_constraint_rows(sigma, W_inv2);
+        try
+          {
+            lu.factorize(K);
+          }
+        catch (const std::runtime_error &)
+          {
+            return 0.;
+          }
+        ++factorizations;
+
+        Vector du, dsl(m), dz(m), rhs(n_u + m), x;
+        // Solves for the complementarity right-hand side rc: W dsl + W^-1 dz = lambda \ rc.
+        const auto direction = [&](const std::vector<Block> &rc) {
+          std::copy(r_x.begin(), r_x.end(), rhs.begin());
+          std::vector<Block> c(n_points);
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              c[i]          = S::arrow_solve(lambda[i], rc[i]);
+              const Block v = S::apply(W_inv[i], c[i]);
+              for (std::size_t a = 0; a < n; ++a)
+                rhs[n_u + i * n + a] = r_z[i * n + a] - v[a];
+            }
+          lu.solve(x, rhs);
+          du.assign(x.begin(), x.begin() + n_u);
+          std::copy(x.begin() + n_u, x.end(), dz.begin());
+          // dsl = W^-1 c - W^-2 dz
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              const Block v = S::apply(W_inv[i], c[i]), w = S::apply(W_inv2[i], block(dz, i));
+              for (std::size_t a = 0; a < n; ++a)
+                dsl[i * n + a] = v[a] - w[a];
+            }
+        };
+
+        const double       tau = gap / static_cast<double>(n_points);
+        std::vector<Block> rc(n_points);
+        for (std::size_t i = 0; i < n_points; ++i) // predictor: rc = -lambda o lambda
+          {
+            rc[i] = S::product(lambda[i], lambda[i]);
+            for (double &v : rc[i])
+              v = -v;
+          }
+        direction(rc);
+        const double t_affine   = max_step(sl, dsl, z, dz);
+        double       gap_affine = 0.;
+        for (std::size_t k = 0; k < m; ++k)
+          gap_affine += (sl[k] + t_affine * dsl[k]) * (z[k] + t_affine * dz[k]);
+        const double centering = std::pow(std::clamp(gap_affine / gap, 0., 1.), 3);
+        for (std::size_t i = 0; i < n_points; ++i) // corrector
+          {
+            const Block ds = S::apply(W[i], block(dsl, i)), dzs = S::apply(W_inv[i], block(dz, i));
+            const Block second = S::product(ds, dzs);
+            for (std::size_t a = 0; a < n; ++a)
+              rc[i][a] -= second[a];
+            rc[i][0] += centering * tau;
+          }
+        direction(rc);
+        double t = std::min(1., 0.99 * max_step(sl, dsl, z, dz));
+        // Rounding can still put a block on the boundary: halve until every block is interior.
+        const auto interior = [&](const double t) {
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              Block a = block(sl, i), b = block(z, i);
+              for (std::size_t j = 0; j < n; ++j)
+                {
+                  a[j] += t * dsl[i * n + j];
+                  b[j] += t * dz[i * n + j];
+                }
+              if (!S::interior(a) || !S::interior(b))
+                return false;
+            }
+          return true;
+        };
+        while (t > 1e-12 && !interior(t))
+          t *= 0.5;
+        bool finite = true;
+        for (const double v : x)
+          finite = finite && std::isfinite(v);
+        if (t <= 1e-12 || !finite)
+          return 0.;
+        for (std::size_t k = 0; k < n_u; ++k)
+          u[k] += t * du[k];
+        for (std::size_t k = 0; k < m; ++k)
+          {
+            sl[k] += t * dsl[k];
+            z[k] += t * dz[k];
+          }
+        return t;
+      }
+
+      const ConeProblemData           &data;
+      const ConeSolverOptions         &options;
+      const std::size_t                n_u, n_points, m;
+      std::vector<std::vector<int>>    point_columns;
+      std::vector<std::vector<double>> point_H;
+      CsrMatrix                        K;
+      UmfpackSolver                    lu;
+      unsigned int                     factorizations = 0;
+      Vector                           gamma_u, r_x, r_z;
+      double                           gap = 0.;
+    };
+  } // namespace
+
+  ConeSolverStats
+  solve_cone_problem_interior_point(const ConeProblemData &data, const ConeSolverOptions &options,
+                                    ConeSolution &solution)
+  {
+    if (data.block_size == 3)
+      return InteriorPoint<3>(data, options).solve(solution);
+    if (data.block_size == 6)
+      return InteriorPoint<6>(data, options).solve(solution);
+    throw std::invalid_argument("solve_cone_problem: block size must be 3 (2D) or 6 (3D)");
+  }
+} // namespace granflow::solvers

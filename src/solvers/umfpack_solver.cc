@@ -1,0 +1,74 @@
+#include "solvers/umfpack_solver.h"
+
+#include <umfpack.h>
+
+#include <stdexcept>
+#include <string>
+
+namespace granflow::solvers
+{
+  // A CSR matrix is the CSC storage of its transpose: UMFPACK is given M^T in CSC and solves
+  // with UMFPACK_At, i.e. (M^T)^T x = b.
+
+  UmfpackSolver::UmfpackSolver(const bool diagonal_pivoting)
+      : control(UMFPACK_CONTROL)
+  {
+    umfpack_di_defaults(control.data());
+    if (diagonal_pivoting)
+      {
+        control[UMFPACK_STRATEGY]            = UMFPACK_STRATEGY_SYMMETRIC;
+        control[UMFPACK_SYM_PIVOT_TOLERANCE] = 0.;
+      }
+  }
+
+  UmfpackSolver::~UmfpackSolver()
+  {
+    if (numeric)
+      umfpack_di_free_numeric(&numeric);
+    if (symbolic)
+      umfpack_di_free_symbolic(&symbolic);
+  }
+
+  void
+  UmfpackSolver::factorize(const CsrMatrix &M)
+  {
+    if (M.n_rows != M.n_cols)
+      throw std::invalid_argument("UmfpackSolver: matrix is not square");
+    const int n = static_cast<int>(M.n_rows);
+    if (numeric)
+      umfpack_di_free_numeric(&numeric);
+    if (!symbolic || pattern_start != M.row_start || pattern_column != M.column)
+      {
+        if (symbolic)
+          umfpack_di_free_symbolic(&symbolic);
+        const int status = umfpack_di_symbolic(n, n, M.row_start.data(), M.column.data(),
+                                               M.value.data(), &symbolic, control.data(), nullptr);
+        if (status != UMFPACK_OK)
+          throw std::runtime_error("UmfpackSolver: symbolic analysis failed (status " +
+                                   std::to_string(status) + ")");
+        pattern_start  = M.row_start;
+        pattern_column = M.column;
+      }
+    const int status = umfpack_di_numeric(M.row_start.data(), M.column.data(), M.value.data(),
+                                          symbolic, &numeric, control.data(), nullptr);
+    if (status != UMFPACK_OK)
+      throw std::runtime_error(
+          "UmfpackSolver: numeric factorisation failed (status " + std::to_string(status) +
+          (status == UMFPACK_WARNING_singular_matrix ? ", singular matrix)" : ")"));
+    matrix = &M;
+  }
+
+  void
+  UmfpackSolver::solve(std::vector<double> &x, const std::vector<double> &b) const
+  {
+    if (!numeric)
+      throw std::logic_error("UmfpackSolver::solve before factorize");
+    x.assign(b.size(), 0.);
+    const int status =
+        umfpack_di_solve(UMFPACK_At, matrix->row_start.data(), matrix->column.data(),
+                         matrix->value.data(), x.data(), b.data(), numeric, nullptr, nullptr);
+    if (status != UMFPACK_OK)
+      throw std::runtime_error("UmfpackSolver: solve failed (status " + std::to_string(status) +
+                               ")");
+  }
+} // namespace granflow::solvers

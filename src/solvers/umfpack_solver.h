@@ -1,0 +1,40 @@
+// Sparse LU factorisation of a square, generally unsymmetric matrix through UMFPACK (SuiteSparse).
+// Used by the interior-point method of the cone problem, whose Newton matrix has a fixed pattern:
+// the symbolic analysis is done once and each factorize() only redoes the numeric factorisation.
+#pragma once
+
+#include "solvers/sparse.h"
+
+#include <vector>
+
+namespace granflow::solvers
+{
+  class UmfpackSolver
+  {
+  public:
+    /// diagonal_pivoting: symmetric strategy (AMD on M + M^T) taking every nonzero diagonal entry
+    /// as pivot. Meant for matrices close to symmetric quasi-definite ([P, B^T; B, -C] with P and C
+    /// positive definite), for which any symmetric ordering is stable (Vanderbei 1995); threshold
+    /// pivoting there rejects the small diagonal entries and multiplies the fill.
+    explicit UmfpackSolver(bool diagonal_pivoting = false);
+    ~UmfpackSolver();
+    UmfpackSolver(const UmfpackSolver &) = delete;
+    UmfpackSolver &
+    operator=(const UmfpackSolver &) = delete;
+
+    /// Factorises M. The first call (or a call with a different pattern) also analyses it.
+    /// Throws std::runtime_error if M is singular.
+    void
+    factorize(const CsrMatrix &M);
+
+    /// x = M^{-1} b
+    void
+    solve(std::vector<double> &x, const std::vector<double> &b) const;
+
+  private:
+    void               *symbolic = nullptr, *numeric = nullptr;
+    const CsrMatrix    *matrix = nullptr; // the last factorised matrix (UMFPACK's solve reads it)
+    std::vector<int>    pattern_start, pattern_column;
+    std::vector<double> control;
+  };
+} // namespace granflow::solvers
