@@ -12,7 +12,7 @@ mkdir -p "$out"
 csv="$out/drag.csv"
 echo "D,p_ext,U_infinity,Froude,drag,drag_coefficient,converged" >"$csv"
 for D in 0.25 0.125; do
-  for p in 0.2 0.4 0.6 0.8 1.0 1.2; do
+  for p in 0.1 0.2 0.3 0.4 0.5 0.6 0.7 0.8 1.0 1.2; do
     run="$out/runs/D${D}_p$p"
     status=0
     "$build/apps/granflow" run cases/daviet2016/cylinder.prm --quiet --output "$run" \

@@ -34,8 +34,9 @@ TEST(CylinderFlow, WakeHasZeroPressureAndDilatesAndDragIsReported)
 
 TEST(CylinderFlow, InteriorPointAndFixedPointGiveTheSameFlow)
 {
-  // The velocity of (35) is unique (4.4.4), so the two methods must agree; the interior point
-  // works on the whole problem, the fixed point on a sequence of cone QPs. A coarser mesh (501
+  // Two independent methods: the interior point works on the whole problem, the fixed point on a
+  // sequence of cone QPs (whose velocity is unique at fixed s, 4.4.4). Both reach a residual of
+  // 1e-6 and must find the same flow. A coarser mesh (501
   // vertices) keeps the fixed point to a few seconds. Measured: drag 0.772125 (fixed point) and
   // 0.772017 (interior point) at a residual of 1e-6; the interior point at 1e-7 gives 0.7720171.
   const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/daviet2016/cylinder.prm";
