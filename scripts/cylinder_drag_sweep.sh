@@ -37,7 +37,12 @@ rows = list(csv.DictReader(open(sys.argv[1])))
 fig, ax = plt.subplots(figsize=(6, 4.5))
 for D in sorted({r["D"] for r in rows}):
     sel = [r for r in rows if r["D"] == D and float(r["U_infinity"]) > 1e-3]  # else jammed
-    ax.loglog([float(r["Froude"]) for r in sel], [float(r["drag_coefficient"]) for r in sel], "o-", label=f"D/L = {D}")
+    line, = ax.loglog([float(r["Froude"]) for r in sel], [float(r["drag_coefficient"]) for r in sel], "-", label=f"D/L = {D}")
+    for done, face in (("True", line.get_color()), ("False", "none")):  # open: tolerance not reached
+        pts = [r for r in sel if r["converged"] == done]
+        ax.loglog([float(r["Froude"]) for r in pts], [float(r["drag_coefficient"]) for r in pts], "o",
+                  color=line.get_color(), markerfacecolor=face)
+ax.set_title("filled: residual <= TOL; open: stopped above it (see drag.csv)", fontsize=9)
 ax.set_xlabel("Fr = U_inf / sqrt(D)"); ax.set_ylabel("C_D"); ax.grid(alpha=0.3, which="both"); ax.legend()
 fig.tight_layout(); fig.savefig(sys.argv[2], dpi=130)
 PY
