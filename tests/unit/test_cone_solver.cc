@@ -43,6 +43,39 @@ namespace
     return I;
   }
 
+  /// A random SPD A (10 dofs) and a random H coupling 3 points, mu = 0.3, 0.5, 0.8, Bi = 0.
+  ConeProblemData
+  coupled_random_problem()
+  {
+    std::mt19937                           rng(11);
+    std::uniform_real_distribution<double> U(-1., 1.);
+    const std::size_t                      n = 10, points = 3;
+    std::vector<std::vector<double>>       G(n, std::vector<double>(n)), A(n, std::vector<double>(n, 0.));
+    for (auto &row : G)
+      for (double &g : row)
+        g = U(rng);
+    for (std::size_t i = 0; i < n; ++i)
+      for (std::size_t j = 0; j < n; ++j)
+        {
+          for (std::size_t k = 0; k < n; ++k)
+            A[i][j] += G[i][k] * G[j][k];
+          A[i][j] += i == j ? 0.5 : 0.;
+        }
+    std::vector<std::vector<double>> H(points * 3, std::vector<double>(n));
+    for (auto &row : H)
+      for (double &h : row)
+        h = U(rng);
+    ConeProblemData data;
+    data.block_size = 3;
+    data.A          = dense_to_csr(A);
+    data.H          = dense_to_csr(H);
+    for (std::size_t i = 0; i < n; ++i)
+      data.l.push_back(U(rng));
+    data.k.assign(points * 3, 0.);
+    data.mu = {0.3, 0.5, 0.8};
+    data.Bi = {0., 0., 0.};
+    return data;
+  }
   /// One constraint point, W = I: gamma = lambda + w. The disjunctive form (4)/(13) gives the
   /// solution by hand: take-off, sticking or sliding.
   std::array<double, 3>
@@ -107,33 +140,8 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
 {
   // A random SPD A (10 dofs), H coupling 3 points: solve, then check f_AC = 0 at every point with
   // gamma recomputed from u, and u = A^{-1}(H^T lambda + l).
-  std::mt19937                           rng(11);
-  std::uniform_real_distribution<double> U(-1., 1.);
-  const std::size_t                      n = 10, points = 3;
-  std::vector<std::vector<double>>       G(n, std::vector<double>(n)), A(n, std::vector<double>(n, 0.));
-  for (auto &row : G)
-    for (double &g : row)
-      g = U(rng);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j)
-      {
-        for (std::size_t k = 0; k < n; ++k)
-          A[i][j] += G[i][k] * G[j][k];
-        A[i][j] += i == j ? 0.5 : 0.;
-      }
-  std::vector<std::vector<double>> H(points * 3, std::vector<double>(n));
-  for (auto &row : H)
-    for (double &h : row)
-      h = U(rng);
-  ConeProblemData data;
-  data.block_size = 3;
-  data.A          = dense_to_csr(A);
-  data.H          = dense_to_csr(H);
-  for (std::size_t i = 0; i < n; ++i)
-    data.l.push_back(U(rng));
-  data.k.assign(points * 3, 0.);
-  data.mu = {0.3, 0.5, 0.8};
-  data.Bi = {0., 0., 0.};
+  const ConeProblemData data = coupled_random_problem();
+  const std::size_t     n    = data.A.n_rows;
 
   ConeSolverOptions options;
   options.inner_solver = GetParam();
@@ -155,7 +163,7 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
   EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-7);
   EXPECT_LE(cone_residual(data, ResidualKind::fischer_burmeister, solution.lambda, gamma), 1e-7);
 
-  // The primal solution is unique (Section 4.4.4): every inner solver finds the same u.
+  // Every inner solver finds the same u (at fixed s it is unique, Section 4.4.4).
   ConeSolverOptions reference_options = options;
   reference_options.inner_solver      = InnerSolver::projected_gradient;
   ConeSolution reference;
@@ -243,35 +251,10 @@ TEST(ConeInteriorPoint, SinglePointMatchesDisjunctiveSolution3D)
 TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
 {
   // The coupled random problem above (10 dofs, 3 points, mu = 0.3, 0.5, 0.8): the interior point
-  // on the whole problem and Cadoux's fixed point find the same u (unique, 4.4.4), and lambda
+  // on the whole problem and Cadoux's fixed point find the same u, and lambda
   // satisfies the rheology with gamma recomputed from u.
-  std::mt19937                           rng(11);
-  std::uniform_real_distribution<double> U(-1., 1.);
-  const std::size_t                      n = 10, points = 3;
-  std::vector<std::vector<double>> G(n, std::vector<double>(n)), A(n, std::vector<double>(n, 0.));
-  for (auto &row : G)
-    for (double &g : row)
-      g = U(rng);
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j)
-      {
-        for (std::size_t k = 0; k < n; ++k)
-          A[i][j] += G[i][k] * G[j][k];
-        A[i][j] += i == j ? 0.5 : 0.;
-      }
-  std::vector<std::vector<double>> H(points * 3, std::vector<double>(n));
-  for (auto &row : H)
-    for (double &h : row)
-      h = U(rng);
-  ConeProblemData data;
-  data.block_size = 3;
-  data.A          = dense_to_csr(A);
-  data.H          = dense_to_csr(H);
-  for (std::size_t i = 0; i < n; ++i)
-    data.l.push_back(U(rng));
-  data.k.assign(points * 3, 0.);
-  data.mu = {0.3, 0.5, 0.8};
-  data.Bi = {0., 0., 0.};
+  const ConeProblemData data = coupled_random_problem();
+  const std::size_t     n    = data.A.n_rows;
 
   // Tolerance 1e-7: at a point where lambda and gamma_hat both vanish the residual decreases only
   // like the square root of the duality gap; this problem stops at 1.1e-8 with a gap of 3e-14.
