@@ -217,7 +217,7 @@ namespace granflow::solvers
         ConeSolverStats stats;
         const auto      t0 = Clock::now();
         Vector          u, sl(m), z(m);
-        initial_point(u, sl, z, solution);
+        initial_point(u, sl, z); // no warm start: interior points do not profit from one
 
         if (options.log)
           *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
@@ -461,7 +461,7 @@ namespace granflow::solvers
       /// (A + H^T D^2 H) u = l - H^T D^2 k, then sl = D gamma_hat(u) and z = -sl, each pushed
       /// into the interior of K_1.
       void
-      initial_point(Vector &u, Vector &sl, Vector &z, const ConeSolution &)
+      initial_point(Vector &u, Vector &sl, Vector &z)
       {
         std::vector<Block>  sigma(n_points, Block{});
         std::vector<Matrix> identity(n_points, Matrix{});
