@@ -226,7 +226,8 @@ namespace granflow::solvers
         double       best = std::numeric_limits<double>::infinity();
         Vector       best_u, best_lambda, best_gamma, lambda(m), gamma(m);
         double       step        = 0.;
-        unsigned int short_steps = 0;
+        unsigned int short_steps = 0, progress_iteration = 0;
+        double       progress_mark = std::numeric_limits<double>::infinity();
         for (;;)
           {
             evaluate(u, sl, z);
@@ -236,6 +237,11 @@ namespace granflow::solvers
             const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
             stats.residual_history.push_back(stats.residual);
             stats.time_history.push_back(elapsed);
+            if (stats.residual < 0.9 * progress_mark) // a 10 % gain resets the stagnation count
+              {
+                progress_mark      = stats.residual;
+                progress_iteration = stats.outer_iterations;
+              }
             if (!(stats.residual >= best))
               {
                 best        = stats.residual;
@@ -266,7 +272,8 @@ namespace granflow::solvers
             ++stats.outer_iterations;
             // No step keeps the iterate interior (rounding has taken over), or the iterates have
             // left the central path and only crawl: stop with the best iterate.
-            if (step == 0. || short_steps == 5)
+            // The same when 50 iterations have not gained 10 % on the best residual.
+            if (step == 0. || short_steps == 5 || stats.outer_iterations - progress_iteration >= 50)
               break;
           }
         stats.time_solve            = std::chrono::duration<double>(Clock::now() - t0).count();
