@@ -21,6 +21,7 @@
 // (measured: the reduced form stalls at a residual of 1.3e-6 on the 673-vertex silo).
 #include "rheology/drucker_prager.h"
 #include "solvers/cone_problem.h"
+#include "solvers/solve_monitor.h"
 #include "solvers/umfpack_solver.h"
 
 #include <algorithm>
@@ -223,28 +224,26 @@ namespace granflow::solvers
           *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
                        << "   iter      residual           gap       primal         dual      step"
                           "      time[s]\n";
-        double       best = std::numeric_limits<double>::infinity();
-        Vector       best_u, best_lambda, best_gamma, lambda(m), gamma(m);
-        double       step        = 0.;
-        unsigned int short_steps = 0, progress_iteration = 0;
-        double       progress_mark = std::numeric_limits<double>::infinity();
+        detail::SolveMonitor monitor(options, stats);
+        Vector               best_u, best_lambda, best_gamma, lambda(m);
+        double               step        = 0.;
+        unsigned int         short_steps = 0, progress_iteration = 0;
+        double               progress_mark = std::numeric_limits<double>::infinity();
         for (;;)
           {
             evaluate(u, sl, z);
             for (std::size_t k = 0; k < m; ++k)
               lambda[k] = D(k) * z[k];
-            stats.residual       = cone_residual(data, options.residual, lambda, gamma_u);
             const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-            stats.residual_history.push_back(stats.residual);
-            stats.time_history.push_back(elapsed);
+            const bool   least =
+                monitor.record(cone_residual(data, options.residual, lambda, gamma_u), elapsed);
             if (stats.residual < 0.9 * progress_mark) // a 10 % gain resets the stagnation count
               {
                 progress_mark      = stats.residual;
                 progress_iteration = stats.outer_iterations;
               }
-            if (!(stats.residual >= best))
+            if (least)
               {
-                best        = stats.residual;
                 best_u      = u;
                 best_lambda = lambda;
                 best_gamma  = gamma_u;
@@ -257,15 +256,7 @@ namespace granflow::solvers
                            << std::setprecision(4) << step << std::setw(13) << std::setprecision(3)
                            << elapsed << std::endl
                            << std::defaultfloat;
-            if (options.progress)
-              options.progress(stats.outer_iterations, stats.residual);
-            if (stats.residual <= options.tolerance)
-              {
-                stats.converged = true;
-                break;
-              }
-            if (stats.outer_iterations == options.max_outer_iterations ||
-                (options.max_seconds > 0. && elapsed > options.max_seconds))
+            if (monitor.finished())
               break;
             step        = newton_step(u, sl, z);
             short_steps = step < 1e-4 ? short_steps + 1 : 0;
@@ -278,7 +269,7 @@ namespace granflow::solvers
           }
         stats.time_solve            = std::chrono::duration<double>(Clock::now() - t0).count();
         stats.operator_applications = factorizations;
-        stats.residual              = best;
+        stats.residual              = monitor.least_residual();
         solution.u                  = std::move(best_u);
         solution.lambda             = std::move(best_lambda);
         solution.gamma              = std::move(best_gamma);

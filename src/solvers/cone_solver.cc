@@ -6,12 +6,12 @@
 #include "rheology/drucker_prager.h"
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
+#include "solvers/solve_monitor.h"
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iomanip>
-#include <limits>
 #include <ostream>
 #include <stdexcept>
 
@@ -472,8 +472,8 @@ namespace granflow::solvers
       AndersonAcceleration anderson(options.anderson_depth);
       double       inner_factor          = options.inner_tolerance_factor;
       unsigned int last_inner_iterations = 0, stalls = 0;
-      double     best_residual = std::numeric_limits<double>::infinity();
       Vector     best_lambda, best_gamma; // the iterate of least residual so far
+      detail::SolveMonitor monitor(options, stats);
       const auto t1 = Clock::now();
       for (;;)
         {
@@ -481,12 +481,8 @@ namespace granflow::solvers
           W.apply(state.Wx, state.x);
           gamma = state.Wx;
           add(gamma, 1., w);
-          stats.residual = K.residual(options.residual, state.x, gamma);
-          stats.residual_history.push_back(stats.residual);
-          stats.time_history.push_back(seconds_since(t1));
-          if (!(stats.residual >= best_residual)) // also replaces a NaN
+          if (monitor.record(K.residual(options.residual, state.x, gamma), seconds_since(t1)))
             {
-              best_residual = stats.residual;
               best_lambda   = state.x;
               best_gamma    = gamma;
             }
@@ -498,15 +494,7 @@ namespace granflow::solvers
                          << std::setw(17) << std::scientific << std::setprecision(4)
                          << inner.last_residual << std::endl
                          << std::defaultfloat;
-          if (options.progress)
-            options.progress(stats.outer_iterations, stats.residual);
-          if (stats.residual <= options.tolerance)
-            {
-              stats.converged = true;
-              break;
-            }
-          if (stats.outer_iterations == options.max_outer_iterations ||
-              (options.max_seconds > 0. && stats.time_history.back() > options.max_seconds))
+          if (monitor.finished())
             break;
           // No progress: the extrapolation (built on inexact evaluations of F) is dropped first;
           // if the plain step stalls too, the inner solves are the suspects: one that hit its
@@ -550,7 +538,7 @@ namespace granflow::solvers
       stats.operator_applications = W.applications;
       // Not converged: the fixed point is not monotone (4.4.1), so the last iterate need not be the
       // best one; the iterate of least residual is returned.
-      stats.residual  = best_residual;
+      stats.residual  = monitor.least_residual();
       solution.lambda = std::move(best_lambda);
       solution.gamma  = std::move(best_gamma);
       W.velocity_of(solution.u, solution.lambda);

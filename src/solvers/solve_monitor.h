@@ -1,0 +1,64 @@
+// Bookkeeping shared by the outer loops of the cone solvers (Cadoux's fixed point in
+// cone_solver.cc, the interior point in cone_interior_point.cc): residual and time histories, the
+// least residual so far (neither iteration is monotone, so the best iterate is what they return),
+// progress reports and the stopping tests of ConeSolverOptions.
+#pragma once
+
+#include "solvers/cone_problem.h"
+
+#include <limits>
+
+namespace granflow::solvers::detail
+{
+  class SolveMonitor
+  {
+  public:
+    SolveMonitor(const ConeSolverOptions &options, ConeSolverStats &stats)
+        : options(options)
+        , stats(stats)
+    {
+    }
+
+    /// Records the residual of the current iterate, `elapsed` seconds into the solve, in `stats`.
+    /// Returns true if it is the least so far, which the caller keeps (a NaN counts as least, so
+    /// that any later residual replaces it).
+    bool
+    record(const double residual, const double elapsed)
+    {
+      stats.residual = residual;
+      stats.residual_history.push_back(residual);
+      stats.time_history.push_back(elapsed);
+      if (residual >= best_residual)
+        return false;
+      best_residual = residual;
+      return true;
+    }
+
+    /// Called once the iterate is logged: reports progress, then tells whether the loop ends
+    /// (tolerance reached, which sets stats.converged, or the iteration or time limit).
+    bool
+    finished()
+    {
+      if (options.progress)
+        options.progress(stats.outer_iterations, stats.residual);
+      if (stats.residual <= options.tolerance)
+        {
+          stats.converged = true;
+          return true;
+        }
+      return stats.outer_iterations == options.max_outer_iterations ||
+             (options.max_seconds > 0. && stats.time_history.back() > options.max_seconds);
+    }
+
+    double
+    least_residual() const
+    {
+      return best_residual;
+    }
+
+  private:
+    const ConeSolverOptions &options;
+    ConeSolverStats         &stats;
+    double                   best_residual = std::numeric_limits<double>::infinity();
+  };
+} // namespace granflow::solvers::detail
