@@ -225,18 +225,16 @@ namespace granflow::solvers
                        << "   iter      residual           gap       primal         dual      step"
                           "      time[s]\n";
         detail::SolveMonitor monitor(options, stats);
-        Vector               best_u, best_lambda, best_gamma, lambda(m);
+        Vector               best_u, best_lambda, best_gamma;
         double               step        = 0.;
         unsigned int         short_steps = 0, progress_iteration = 0;
         double               progress_mark = std::numeric_limits<double>::infinity();
         for (;;)
           {
             evaluate(u, sl, z);
-            for (std::size_t k = 0; k < m; ++k)
-              lambda[k] = D(k) * z[k];
             const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
             const bool   least =
-                monitor.record(cone_residual(data, options.residual, lambda, gamma_u), elapsed);
+                monitor.record(cone_residual(data, options.residual, lambda_z, gamma_u), elapsed);
             if (stats.residual < 0.9 * progress_mark) // a 10 % gain resets the stagnation count
               {
                 progress_mark      = stats.residual;
@@ -245,7 +243,7 @@ namespace granflow::solvers
             if (least)
               {
                 best_u      = u;
-                best_lambda = lambda;
+                best_lambda = lambda_z;
                 best_gamma  = gamma_u;
               }
             if (options.log)
@@ -415,8 +413,8 @@ namespace granflow::solvers
           }
       }
 
-      /// gamma(u) = H u + k, s(u), the residuals r_x = l + H^T D z - A u and
-      /// r_z = D (gamma + s e_N) - sl, and the duality gap sl . z.
+      /// gamma(u) = H u + k, s(u), the stress lambda = D z, the residuals r_x = l + H^T lambda - A
+      /// u and r_z = D (gamma + s e_N) - sl, and the duality gap sl . z.
       void
       evaluate(const Vector &u, const Vector &sl, const Vector &z)
       {
@@ -431,10 +429,11 @@ namespace granflow::solvers
             for (std::size_t a = 0; a < n; ++a)
               r_z[i * n + a] = (a == 0 ? g[0] + s : data.mu[i] * g[a]) - sl[i * n + a];
           }
-        Vector Dz(m), Au;
+        lambda_z.resize(m);
         for (std::size_t k = 0; k < m; ++k)
-          Dz[k] = D(k) * z[k];
-        data.H.Tvmult(r_x, Dz);
+          lambda_z[k] = D(k) * z[k];
+        Vector Au;
+        data.H.Tvmult(r_x, lambda_z);
         data.A.vmult(Au, u);
         for (std::size_t k = 0; k < n_u; ++k)
           r_x[k] += data.l[k] - Au[k];
@@ -613,7 +612,7 @@ namespace granflow::solvers
       CsrMatrix                        K;
       UmfpackSolver                    lu;
       unsigned int                     factorizations = 0;
-      Vector                           gamma_u, r_x, r_z;
+      Vector                           gamma_u, lambda_z, r_x, r_z; // set by evaluate()
       double                           gap = 0.;
     };
   } // namespace
