@@ -18,6 +18,12 @@ namespace granflow::solvers
       {
         control[UMFPACK_STRATEGY]            = UMFPACK_STRATEGY_SYMMETRIC;
         control[UMFPACK_SYM_PIVOT_TOLERANCE] = 0.;
+        // Nested dissection (METIS) of M + M^T instead of AMD: on the interior point's augmented
+        // system of the 40265-vertex silo (1.1M unknowns) a factorisation takes 9.2 s against
+        // 12.9 s, with the same iterates to round-off; on the 673- and 2591-vertex silos the times
+        // are equal.
+        // UMFPACK_ORDERING_CHOLMOD (the better of AMD and METIS by its own estimate) chose AMD.
+        control[UMFPACK_ORDERING] = UMFPACK_ORDERING_METIS;
       }
   }
 
