@@ -1075,6 +1075,27 @@ namespace granflow::ngf
         }
       out.write_csv("profiles/stress.csv", {header[0], "mu", "p_over_P_wall", "g_loc_scaled"},
                     {xc, mu, p, gloc});
+
+      // The pressure at the driven wall, extrapolated linearly from the two nearest element
+      // centres (exact for the column's hydrostatic gradient). mu_wall is the wall shear stress
+      // over the applied P_wall, as in the paper; the local ratio tau / p at the wall differs from
+      // it where the elastic solution does not carry P_wall unchanged to the wall (the annulus).
+      if (column || prm.geometry.shape == "annulus row")
+        {
+          std::vector<std::pair<double, double>> by_x;
+          for (std::size_t i = 0; i < xc.size(); ++i)
+            by_x.emplace_back(xc[i], p[i]);
+          std::sort(by_x.begin(), by_x.end());
+          if (by_x.size() >= 2)
+            {
+              const auto [x0, p0]   = by_x[0];
+              const auto [x1, p1]   = by_x[1];
+              const double p_wall   = p0 - x0 * (p1 - p0) / (x1 - x0);
+              const double mu_wall  = summary["mu_wall"];
+              summary["wall_pressure_over_P_wall"] = p_wall;
+              summary["mu_wall_local"]             = mu_wall / p_wall;
+            }
+        }
     }
 
     template <int dim>
