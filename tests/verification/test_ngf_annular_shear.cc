@@ -62,8 +62,8 @@ namespace
   }
 
   // The FE's mu_wall is the wall's shear stress over the applied P_wall (the paper's definition,
-  // from the moment of the inner wall). The elastic solution does not carry P_wall unchanged to
-  // the inner wall: there the pressure is about 0.5 % higher, and the converged mu_wall sits that
+  // from the moment of the inner wall). (92) takes p = P_wall everywhere; in the FE solution the
+  // mean pressure p at the inner wall is about 0.5 % higher, and the converged mu_wall sits that
   // much above the value prescribed in the finite-difference solution of (92) (0.3934 at
   // h/d = 1/90, against 0.3913). The local ratio tau / p at the wall, which is what (92)
   // prescribes, matches it: within 0.01 % at h/d = 1/90, and within 0.2 % already at h/d = 1/9,

@@ -1079,7 +1079,7 @@ namespace granflow::ngf
       // The pressure at the driven wall, extrapolated linearly from the two nearest element
       // centres (exact for the column's hydrostatic gradient). mu_wall is the wall shear stress
       // over the applied P_wall, as in the paper; the local ratio tau / p at the wall differs from
-      // it where the elastic solution does not carry P_wall unchanged to the wall (the annulus).
+      // it where the mean pressure p there is not P_wall (the annulus: about 1.005 P_wall).
       if (column || prm.geometry.shape == "annulus row")
         {
           std::vector<std::pair<double, double>> by_x;
