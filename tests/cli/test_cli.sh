@@ -69,6 +69,11 @@ check not-converged 3 "written to" "$GRANFLOW" run "$case_file" --output nc --qu
   --set "Solver/Max outer iterations=1" --set "Solver/Max inner iterations=1" --set "Solver/Tolerance=1e-14"
 if [ -s nc/summary.json ]; then echo "ok   not-converged keeps summary"; passes=$((passes + 1));
 else echo "FAIL not-converged summary missing"; failures=$((failures + 1)); fi
+# The wall-time limit ends a solve that the iteration limits would let run for minutes (without
+# it, the timeout's status 124 fails the check).
+check max-seconds 3 "Max seconds" timeout 60 "$GRANFLOW" run "$case_file" --output ms --quiet \
+  --set "Solver/Max outer iterations=10000000" --set "Solver/Tolerance=1e-14" --set "Solver/Max seconds=0.5"
+bad max-seconds-negative "Max seconds" --set "Solver/Max seconds=-1"
 
 # ngf (Henann & Kamrin 2016): bad material values and fluidity boundaries (issue #3 h).
 ngf_case="$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm"

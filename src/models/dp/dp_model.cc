@@ -392,6 +392,7 @@ namespace granflow::dp
       options.max_outer_iterations = prm.solver.max_outer_iterations;
       options.max_inner_iterations = prm.solver.max_inner_iterations;
       options.anderson_depth       = prm.solver.anderson_depth;
+      options.max_seconds          = prm.solver.max_seconds;
       options.log                  = &log.table();
       options.progress             = [this](const unsigned int k, const double r) {
         std::ostringstream s;
@@ -505,7 +506,8 @@ namespace granflow::dp
             << (prm.solver.method == "interior point" ? "interior-point method" : "Cadoux fixed point")
             << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
             << stats.residual << " after " << stats.outer_iterations
-            << " iterations; raise Solver/Max outer iterations or Max inner iterations). "
+            << " iterations; raise Solver/Max outer iterations, Max inner iterations or Max "
+               "seconds). "
             << "The last iterate was written to " << out.target();
           throw ConvergenceError(s.str());
         }

@@ -110,6 +110,11 @@ namespace granflow::dp
                         "Cadoux fixed-point iterations before giving up.", Integer(1));
       prm.add_parameter("Max inner iterations", s.max_inner_iterations,
                         "Inner solver iterations per fixed-point iteration.", Integer(1));
+      prm.add_parameter("Max seconds", s.max_seconds,
+                        "Wall-time limit of each cone solve in seconds, >= 0 (0: none). A solve "
+                        "stopped by it keeps its iterate of least residual and the run exits with "
+                        "status 3.",
+                        Double(0.));
       prm.add_parameter("Anderson depth", s.anderson_depth,
                         "Anderson acceleration of the Cadoux fixed point on s (0: plain Algorithm 1; "
                         "the plain iteration can cycle for mu >= 0.5).",

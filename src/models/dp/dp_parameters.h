@@ -59,6 +59,7 @@ namespace granflow::dp
     unsigned int max_outer_iterations  = 500;
     unsigned int max_inner_iterations  = solvers::ConeSolverOptions{}.max_inner_iterations;
     unsigned int anderson_depth        = solvers::ConeSolverOptions{}.anderson_depth;
+    double       max_seconds           = solvers::ConeSolverOptions{}.max_seconds; // 0: no limit
     unsigned int viscosity_iterations  = 50;
     double       viscosity_tolerance   = 1e-5;
     std::string  dump_cone_problem     = ""; // file name under the output directory, empty: none
