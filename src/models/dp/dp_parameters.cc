@@ -111,9 +111,9 @@ namespace granflow::dp
       prm.add_parameter("Max inner iterations", s.max_inner_iterations,
                         "Inner solver iterations per fixed-point iteration.", Integer(1));
       prm.add_parameter("Max seconds", s.max_seconds,
-                        "Wall-time limit of each cone solve in seconds, >= 0 (0: none). A solve "
-                        "stopped by it keeps its iterate of least residual and the run exits with "
-                        "status 3.",
+                        "Wall-time limit of each cone solve in seconds, >= 0 (0: none), checked after "
+                        "each outer iteration. A solve stopped by it keeps its iterate of least "
+                        "residual and the run exits with status 3.",
                         Double(0.));
       prm.add_parameter("Anderson depth", s.anderson_depth,
                         "Anderson acceleration of the Cadoux fixed point on s (0: plain Algorithm 1; "
