@@ -43,6 +43,22 @@ namespace
     return I;
   }
 
+  /// One constraint point with A = H = I, l = w and k = 0 (block size w.size()): then gamma = u =
+  /// lambda + w, and lambda is the single-point solution for w.
+  ConeProblemData
+  single_point_problem(const std::vector<double> &w, const double mu, const double Bi)
+  {
+    ConeProblemData data;
+    data.block_size = w.size();
+    data.A          = dense_to_csr(identity(w.size()));
+    data.H          = dense_to_csr(identity(w.size()));
+    data.l          = w;
+    data.k.assign(w.size(), 0.);
+    data.mu = {mu};
+    data.Bi = {Bi};
+    return data;
+  }
+
   /// A random SPD A (10 dofs) and a random H coupling 3 points, mu = 0.3, 0.5, 0.8, Bi = 0.
   ConeProblemData
   coupled_random_problem()
@@ -125,15 +141,8 @@ TEST_P(ConeSolverAllInner, SinglePointMatchesDisjunctiveSolution)
       const double          mu = trial % 4 == 0 ? 0. : 0.2 + 0.8 * std::abs(U(rng));
       const double          Bi = (trial % 4 == 0) ? 0.3 : 0.;
       std::array<double, 3> w  = {U(rng), U(rng), U(rng)};
-      ConeProblemData       data;
-      data.block_size = 3;
-      data.A          = dense_to_csr(identity(3));
-      data.H          = dense_to_csr(identity(3));
-      data.l          = {w[0], w[1], w[2]};
-      data.k          = {0., 0., 0.};
-      data.mu         = {mu};
-      data.Bi         = {Bi};
-      ConeSolverOptions options;
+      const ConeProblemData data = single_point_problem({w[0], w[1], w[2]}, mu, Bi);
+      ConeSolverOptions     options;
       options.inner_solver = GetParam();
       options.residual     = ResidualKind::alart_curnier;
       options.tolerance    = 1e-10;
@@ -211,9 +220,6 @@ namespace
     std::mt19937                           rng(seed);
     std::uniform_real_distribution<double> U(-1., 1.);
     int                                    cases[3] = {0, 0, 0};
-    std::vector<std::vector<double>>       I(n, std::vector<double>(n, 0.));
-    for (std::size_t i = 0; i < n; ++i)
-      I[i][i] = 1.;
     for (int trial = 0; trial < 100; ++trial)
       {
         const double          mu = 0.2 + 0.8 * std::abs(U(rng));
@@ -221,15 +227,8 @@ namespace
         for (std::size_t j = 0; j < n; ++j) // every other trial a small w_T, so that sticking
           w[j] =
               (j > 0 && trial % 2 ? 0.2 : 1.) * U(rng); // occurs with 5 tangential components too
-        ConeProblemData data;
-        data.block_size = n;
-        data.A          = dense_to_csr(I);
-        data.H          = dense_to_csr(I);
-        data.l.assign(w.begin(), w.end());
-        data.k.assign(n, 0.);
-        data.mu = {mu};
-        data.Bi = {0.};
-        ConeSolverOptions options;
+        const ConeProblemData data = single_point_problem({w.begin(), w.end()}, mu, 0.);
+        ConeSolverOptions     options;
         options.method    = ConeMethod::interior_point;
         options.tolerance = 1e-9;
         ConeSolution       solution;
@@ -293,15 +292,8 @@ TEST(ConeInteriorPoint, RejectsPointsOutsideItsScope)
   // mu = 0 (K_0 is a ray) and Bi > 0 (truncated cone) are the fixed point's.
   for (const auto &[mu, Bi] : {std::pair{0., 0.}, std::pair{0.5, 0.1}})
     {
-      ConeProblemData data;
-      data.block_size = 3;
-      data.A          = dense_to_csr(identity(3));
-      data.H          = dense_to_csr(identity(3));
-      data.l          = {-1., 0.2, 0.};
-      data.k          = {0., 0., 0.};
-      data.mu         = {mu};
-      data.Bi         = {Bi};
-      ConeSolverOptions options;
+      const ConeProblemData data = single_point_problem({-1., 0.2, 0.}, mu, Bi);
+      ConeSolverOptions     options;
       options.method = ConeMethod::interior_point;
       ConeSolution solution;
       EXPECT_THROW(solve_cone_problem(data, options, solution), std::invalid_argument);
