@@ -1,4 +1,5 @@
 #include "postprocess/nonlocal_1d.h"
+#include "solvers/dense.h"
 
 #include <algorithm>
 #include <cmath>
@@ -406,29 +407,8 @@ namespace granflow::postprocess
           }
         for (std::size_t i = 0; i < n; ++i)
           J[i][n] = -r[i];
-        for (std::size_t c = 0; c < n; ++c)
-          {
-            std::size_t pivot = c;
-            for (std::size_t i = c + 1; i < n; ++i)
-              if (std::abs(J[i][c]) > std::abs(J[pivot][c]))
-                pivot = i;
-            std::swap(J[c], J[pivot]);
-            require(J[c][c] != 0., where + ": singular Jacobian");
-            for (std::size_t i = c + 1; i < n; ++i)
-              {
-                const double f = J[i][c] / J[c][c];
-                for (std::size_t k = c; k <= n; ++k)
-                  J[i][k] -= f * J[c][k];
-              }
-          }
-        std::vector<double> dx(n);
-        for (std::size_t i = n; i-- > 0;)
-          {
-            double s = J[i][n];
-            for (std::size_t k = i + 1; k < n; ++k)
-              s -= J[i][k] * dx[k];
-            dx[i] = s / J[i][i];
-          }
+        std::vector<double> dx;
+        require(solvers::solve_augmented(J, dx), where + ": singular Jacobian");
         double t = 1.;
         for (;; t *= 0.5)
           {

@@ -6,6 +6,7 @@
 #include "rheology/drucker_prager.h"
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
+#include "solvers/dense.h"
 #include "solvers/solve_monitor.h"
 
 #include <algorithm>
@@ -125,30 +126,9 @@ namespace granflow::solvers
             M[a][a] *= 1. + 1e-10;
             M[a][k] = dot(dFs[a], f);
           }
-        for (std::size_t a = 0; a < k; ++a) // Gaussian elimination with partial pivoting
-          {
-            std::size_t pivot = a;
-            for (std::size_t b = a + 1; b < k; ++b)
-              if (std::abs(M[b][a]) > std::abs(M[pivot][a]))
-                pivot = b;
-            std::swap(M[a], M[pivot]);
-            if (M[a][a] == 0.)
-              return;
-            for (std::size_t b = a + 1; b < k; ++b)
-              {
-                const double r = M[b][a] / M[a][a];
-                for (std::size_t c = a; c <= k; ++c)
-                  M[b][c] -= r * M[a][c];
-              }
-          }
-        std::vector<double> c(k);
-        for (std::size_t a = k; a-- > 0;)
-          {
-            double r = M[a][k];
-            for (std::size_t b = a + 1; b < k; ++b)
-              r -= M[a][b] * c[b];
-            c[a] = r / M[a][a];
-          }
+        std::vector<double> c;
+        if (!solve_augmented(M, c))
+          return;
         for (std::size_t a = 0; a < k; ++a)
           add(s, -c[a], dGs[a]);
         for (double &v : s)
