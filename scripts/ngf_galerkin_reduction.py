@@ -13,7 +13,9 @@ shear rates. Solved by scipy's root + Newton polish. Also a finite-difference so
 If the reduction reproduces the FE's coarse-mesh deviation from FD, that deviation is a property
 of the paper's discretization and not of our implementation. Side experiment at h = d: the
 fluidity reaction term integrated with nodal (trapezoidal) quadrature, with three choices of mu
-at the nodes, to show how sensitive the coarse-mesh answer is to that choice.
+at the nodes, to show how sensitive the coarse-mesh answer is to that choice; and ('gbar') the
+flow rule evaluated with the element-mean fluidity, so that mu does not split between an
+element's Gauss points (docs/ngf.md).
 
 Writes OUT_DIR/galerkin_reduction_column.csv and prints the table.
   /usr/bin/python3 scripts/ngf_galerkin_reduction.py [BUILD_DIR] [OUT_DIR]
@@ -97,14 +99,15 @@ def galerkin_residual(x, N, h, quad='gauss', gscale=1e3):
     gq = np.maximum(g[:-1, None] * Nq[None, :, 0] + g[1:, None] * Nq[None, :, 1], 1e-300)
     pq = p_of(zq)
     # per element: mu_q = gd/g_q, (mu_1 p_1 + mu_2 p_2)/2 = tau  -> gd
-    gd = 2 * tau / (pq[:, 0] / gq[:, 0] + pq[:, 1] / gq[:, 1])
-    muq = gd[:, None] / gq
+    gflow = np.repeat(gq.mean(1)[:, None], 2, 1) if quad == 'gbar' else gq
+    gd = 2 * tau / (pq[:, 0] / gflow[:, 0] + pq[:, 1] / gflow[:, 1])
+    muq = gd[:, None] / gflow
     R = np.zeros(N + 1)
     # stiffness g' N'
     dg = (g[1:] - g[:-1]) / h
     R[:-1] += -dg
     R[1:] += dg
-    if quad == 'gauss':
+    if quad in ('gauss', 'gbar'):
         f = (gq - gloc(muq, pq)) * inv_xi2(muq)             # (N,2)
         for a, sl in ((0, slice(0, N)), (1, slice(1, N + 1))):
             R[sl] += (0.5 * h) * (f * Nq[None, :, a]).sum(1)
@@ -176,7 +179,7 @@ def main():
         s['W'] = width(s['z'], s['v'])
         res[lab] = s
     variants = {}
-    for q in ('trap_extrap', 'trap_const', 'trap_tauover_p'):
+    for q in ('trap_extrap', 'trap_const', 'trap_tauover_p', 'gbar'):
         s = galerkin_solve(1.0, x0_from(gfd, fd['mu_wall']), quad=q)
         s['W'] = width(s['z'], s['v'])
         variants[q] = s
