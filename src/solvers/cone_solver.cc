@@ -258,10 +258,10 @@ namespace granflow::solvers
                       DelassusOperator        &W,
                       const ConeSolverOptions &options,
                       const double             lipschitz)
-        : K(K)
+        : max_iterations(options.max_inner_iterations) // declared first
+        , K(K)
         , W(W)
         , options(options)
-        , max_iterations(options.max_inner_iterations)
         , lipschitz(lipschitz)
         , step(1. / lipschitz)
       {}
