@@ -108,6 +108,8 @@ for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.c
 done
 check ngf-not-converged 3 "written to" "$GRANFLOW" run "$ngf_case" --output ngf_nc --quiet \
   --set "Solver/Max Newton iterations=1" --set "Solver/Tolerance=1e-14"
+if grep -qF "least residuals of the last attempt: R_u" err.txt; then echo "ok   ngf not-converged names its residuals"; passes=$((passes + 1));
+else echo "FAIL ngf not-converged message lacks the least residuals"; failures=$((failures + 1)); fi
 if [ -s ngf_nc/summary.json ]; then echo "ok   ngf not-converged keeps summary"; passes=$((passes + 1));
 else echo "FAIL ngf not-converged summary missing"; failures=$((failures + 1)); fi
 

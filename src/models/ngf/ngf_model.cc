@@ -794,6 +794,24 @@ namespace granflow::ngf
                   std::ostringstream s;
                   s << "Newton did not converge at wall displacement " << u_wall / d
                     << " d even with an increment of " << du / d << " d";
+                  // The last attempt's least residuals: below 1e-6 (the default tolerance) but
+                  // not below a tighter one, they are at their round-off floor (docs/ngf.md), and a
+                  // looser tolerance is the remedy.
+                  double R_u_min = std::numeric_limits<double>::infinity(), R_g_min = R_u_min;
+                  for (auto r = newton_log.rbegin(); r != newton_log.rend(); ++r)
+                    {
+                      R_u_min = std::min(R_u_min, r->R_u);
+                      R_g_min = std::min(R_g_min, r->R_g);
+                      if (r->iteration == 0)
+                        break;
+                    }
+                  const double tol = prm.solver.tolerance;
+                  s << " (least residuals of the last attempt: R_u " << R_u_min << ", R_g "
+                    << R_g_min << ")";
+                  if (std::max(R_u_min, R_g_min) < 1e-6)
+                    s << "; below 1e-6 but not below Solver/Tolerance = " << tol
+                      << ", they have likely reached their round-off floor (docs/ngf.md): try a "
+                         "larger tolerance";
                   failure = s.str();
                   U       = U_n;
                   assemble(
