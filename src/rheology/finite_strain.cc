@@ -58,13 +58,14 @@ namespace granflow::rheology
       return r;
     }
 
-    /// (ln a - ln b) / (a - b), and 1/a for a == b, without cancellation for close a, b.
+    /// (ln(1 + a) - ln(1 + b)) / (a - b), and 1 / (1 + a) for a == b, without cancellation for
+    /// close a, b.
     double
     log_divided_difference(const double a, const double b)
     {
-      const double x = (a - b) / b;
+      const double x = (a - b) / (1. + b);
       if (std::abs(x) < 1e-4)
-        return (1. - x / 2. + x * x / 3.) / b;
+        return (1. - x / 2. + x * x / 3.) / (1. + b);
       return std::log1p(x) / (a - b);
     }
 
@@ -77,13 +78,14 @@ namespace granflow::rheology
 
   namespace
   {
-    /// ln of a symmetric positive definite tensor from its eigenpairs, and d ln(A)/dA if asked.
+    /// ln(A) of a symmetric positive definite A from the eigenpairs (delta_a, n_a) of A - 1, and
+    /// d ln(A)/dA if asked: ln(1 + delta_a) by log1p keeps its relative precision when A is near 1.
     SymmetricFunction
     log_from_eigen(const Eigen &e, const bool with_derivative)
     {
       std::array<double, 3> f;
       for (unsigned int a = 0; a < 3; ++a)
-        f[a] = std::log(e[a].first);
+        f[a] = std::log1p(e[a].first);
 
       SymmetricFunction r;
       r.value = spectral_sum(e, f);
@@ -117,7 +119,16 @@ namespace granflow::rheology
   SymmetricFunction
   log_sym(const SymTensor2 &A)
   {
-    return log_from_eigen(eigen(A), true);
+    return log_from_eigen(eigen(A - dealii::unit_symmetric_tensor<3>()), true);
+  }
+
+  double
+  determinant_minus_one(const Tensor2 &H)
+  {
+    // det(1 + H) = 1 + I_1 + I_2 + I_3 with the principal invariants of H.
+    const double I1 = dealii::trace(H);
+    const double I2 = 0.5 * (I1 * I1 - dealii::trace(H * H));
+    return I1 + I2 + dealii::determinant(H);
   }
 
   SymTensor2
@@ -137,19 +148,27 @@ namespace granflow::rheology
     {
       Tensor2           Fe;
       SymTensor2        Be, E, s; // B^e_tr, Ebar_tr = ln(B^e_tr) / 2, s_tr = dev T^K_tr
-      Eigen             eigen_B;
+      Eigen             eigen_B;  // eigenvalues of B^e_tr - 1, eigenvectors of B^e_tr
       SymmetricFunction lnB;
       double            p = 0., tau = 0.; // pbar_tr, taubar_tr (72)
     };
 
     Trial
-    trial_state(const Tensor2 &F, const Tensor2 &Fp_n, const ElasticModuli &moduli,
+    trial_state(const DisplacementGradient &F, const Tensor2 &Fp_n, const ElasticModuli &moduli,
                 const bool with_tangents)
     {
+      // (60) without cancellation (DisplacementGradient): with P = F^p_n^{-1} - 1 =
+      // -F^p_n^{-1} (F^p_n - 1), F^e_tr - 1 = (1 + H)(1 + P) - 1 and B^e_tr - 1 = He + He^T +
+      // He He^T.
+      const auto    I  = dealii::unit_symmetric_tensor<3>();
+      const Tensor2 P  = -dealii::invert(Fp_n) * (Fp_n - I);
+      const Tensor2 He = F.H + P + F.H * P;
+      const auto    Be_minus_1 =
+          dealii::symmetrize(He + dealii::transpose(He) + He * dealii::transpose(He));
       Trial t;
-      t.Fe      = F * dealii::invert(Fp_n);
-      t.Be      = dealii::symmetrize(t.Fe * dealii::transpose(t.Fe));
-      t.eigen_B = eigen(t.Be);
+      t.Fe      = I + He;
+      t.Be      = I + Be_minus_1;
+      t.eigen_B = eigen(Be_minus_1);
       t.lnB     = log_from_eigen(t.eigen_B, with_tangents);
       t.E       = 0.5 * t.lnB.value;
       t.s       = 2. * moduli.S * deviator(t.E);
@@ -167,7 +186,7 @@ namespace granflow::rheology
       std::array<double, 3> f;
       const double          tr_E = dealii::trace(t.E);
       for (unsigned int a = 0; a < 3; ++a)
-        f[a] = std::exp(-(1. - ratio) * (0.5 * std::log(t.eigen_B[a].first) - tr_E / 3.));
+        f[a] = std::exp(-(1. - ratio) * (0.5 * std::log1p(t.eigen_B[a].first) - tr_E / 3.));
       return dealii::invert(Tensor2(spectral_sum(t.eigen_B, f)) * t.Fe) * F;
     }
 
@@ -197,11 +216,20 @@ namespace granflow::rheology
                   const ElasticModuli &moduli, const NonlocalParameters &material,
                   const bool with_tangents)
   {
+    return nonlocal_update(DisplacementGradient{F - dealii::unit_symmetric_tensor<3>()}, Fp_n, g,
+                           dt, moduli, material, with_tangents);
+  }
+
+  NonlocalPointUpdate
+  nonlocal_update(const DisplacementGradient &F, const Tensor2 &Fp_n, const double g,
+                  const double dt, const ElasticModuli &moduli, const NonlocalParameters &material,
+                  const bool with_tangents)
+  {
     const double S = moduli.S, B = moduli.B;
     const auto   I = dealii::unit_symmetric_tensor<3>();
 
     NonlocalPointUpdate r;
-    r.J = dealii::determinant(F);
+    r.J = 1. + determinant_minus_one(F.H);
 
     // Steps 1-3 (60)-(62), rotated to the spatial frame (71)-(72).
     const Trial       trial = trial_state(F, Fp_n, moduli, with_tangents);
@@ -228,7 +256,7 @@ namespace granflow::rheology
 
     // Step 5 (64); dt gamma_dot^p = dt g mu = (taubar_tr - taubar) / S by (55)_1.
     r.gamma_dot_p = g_plus * r.mu;
-    r.Fp          = plastic_distortion(trial, ratio, F);
+    r.Fp          = plastic_distortion(trial, ratio, F.F());
 
     // Step 6 (65).
     const auto gl    = local_fluidity(p, r.mu, material);
@@ -280,11 +308,20 @@ namespace granflow::rheology
   local_update(const Tensor2 &F, const Tensor2 &Fp_n, const double dt, const ElasticModuli &moduli,
                const NonlocalParameters &material, const bool with_tangents)
   {
+    return local_update(DisplacementGradient{F - dealii::unit_symmetric_tensor<3>()}, Fp_n, dt,
+                        moduli, material, with_tangents);
+  }
+
+  NonlocalPointUpdate
+  local_update(const DisplacementGradient &F, const Tensor2 &Fp_n, const double dt,
+               const ElasticModuli &moduli, const NonlocalParameters &material,
+               const bool with_tangents)
+  {
     const double S = moduli.S, B = moduli.B;
     const auto   I = dealii::unit_symmetric_tensor<3>();
 
     NonlocalPointUpdate r;
-    r.J                = dealii::determinant(F);
+    r.J                = 1. + determinant_minus_one(F.H);
     const Trial  trial = trial_state(F, Fp_n, moduli, with_tangents);
     const double p = std::max(trial.p, 0.), tau_tr = trial.tau;
     const double mu_s = material.mu_s;
@@ -303,7 +340,7 @@ namespace granflow::rheology
     r.T           = (-trial.p * I + ratio * trial.s) / r.J;
     r.gamma_dot_p = flowing ? (tau_tr - tau) / (S * dt) : 0.;
     r.g_loc       = flowing ? r.gamma_dot_p / r.mu : 0.; // g = g_loc (22)
-    r.Fp          = plastic_distortion(trial, ratio, F);
+    r.Fp          = plastic_distortion(trial, ratio, F.F());
     if (!with_tangents)
       return r;
 

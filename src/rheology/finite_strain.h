@@ -67,6 +67,28 @@ namespace granflow::rheology
     double     dgres_dg = 0.; ///< d g_res / d g at fixed F (89), with the explicit 1/xi^2 term
   };
 
+  /// F_{n+1} held as its displacement gradient H = F - 1 (with F-bar applied, if any). The elastic
+  /// strain is small (p / B and tau / S are 1e-5 to 1e-4 at the paper's moduli), so F^e and
+  /// B^e = F^e F^e^T differ from 1 by little. Formed from F itself, their O(1) entries carry an
+  /// absolute round-off of 1e-16, a relative error of 1e-16 / epsilon^e in the stress; that error,
+  /// varying with the iterate, is the floor of Newton's residual (docs/ngf.md). From H, the update
+  /// forms F^e - 1 and B^e - 1 directly and takes ln(B^e) through log1p of the eigenvalues of
+  /// B^e - 1, so the stress keeps its relative precision however small the elastic strain.
+  struct DisplacementGradient
+  {
+    Tensor2 H; ///< F - 1
+
+    Tensor2
+    F() const
+    {
+      return dealii::unit_symmetric_tensor<3>() + H;
+    }
+  };
+
+  /// det(1 + H) - 1 from the invariants of H, without cancellation for small H.
+  double
+  determinant_minus_one(const Tensor2 &H);
+
   /// Henann Section 4, Steps 1-6: given F_{n+1}, g_{n+1} and F^p_n, the state at t_{n+1} = t_n +
   /// dt. Guards the paper does not need to state (its solutions have pbar > 0 and g >= 0):
   /// - pbar_tr <= 0 (tension): (56) and (22) use pbar = 0, i.e. no shear strength and g_loc = 0;
@@ -75,6 +97,11 @@ namespace granflow::rheology
   ///   plastic flow never reverses the stress, while g_res (85) keeps the actual g; at g = 0 the
   ///   tangents are the right derivatives.
   NonlocalPointUpdate
+  nonlocal_update(const DisplacementGradient &F, const Tensor2 &Fp_n, double g, double dt,
+                  const ElasticModuli &moduli, const NonlocalParameters &material,
+                  bool with_tangents = true);
+  /// The same from F itself (H = F - 1 is then only as precise as F's O(1) entries).
+  NonlocalPointUpdate
   nonlocal_update(const Tensor2 &F, const Tensor2 &Fp_n, double g, double dt,
                   const ElasticModuli &moduli, const NonlocalParameters &material,
                   bool with_tangents = true);
@@ -82,6 +109,10 @@ namespace granflow::rheology
   /// the local flow rule (1) is linear in taubar and solved in closed form; C (68) is its
   /// consistent tangent. g_loc holds the resulting fluidity gamma_dot^p / mu; g_res, Lambda and
   /// dgres_* are zero.
+  NonlocalPointUpdate
+  local_update(const DisplacementGradient &F, const Tensor2 &Fp_n, double dt,
+               const ElasticModuli &moduli, const NonlocalParameters &material,
+               bool with_tangents = true);
   NonlocalPointUpdate
   local_update(const Tensor2 &F, const Tensor2 &Fp_n, double dt, const ElasticModuli &moduli,
                const NonlocalParameters &material, bool with_tangents = true);

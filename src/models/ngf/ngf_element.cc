@@ -13,7 +13,8 @@ namespace granflow::ngf
     /// F and, per displacement-type dof 4 a + c, dF/dU and G = Grad(dx) at one point.
     struct PointKinematics
     {
-      Tensor2              F;
+      Tensor2              F, H; // H = F - 1, formed without cancellation
+      double               J_minus_1 = 0.;
       std::vector<Tensor2> dF, G;  // indexed by element dof; entries of fluidity dofs stay zero
       double               r = 0.; // current radius (quad)
       Tensor<1, 3>         grad_theta, grad_u_r; // (quad)
@@ -25,7 +26,7 @@ namespace granflow::ngf
                        const bool with_modes, PointKinematics &k)
     {
       const unsigned int n = N.size();
-      k.F                  = dealii::unit_symmetric_tensor<3>();
+      k.H                  = Tensor2();
       if (with_modes)
         {
           k.dF.assign(4 * n, Tensor2());
@@ -34,7 +35,9 @@ namespace granflow::ngf
       if (kinematics == Kinematics::brick)
         {
           for (unsigned int a = 0; a < n; ++a)
-            k.F += dealii::outer_product(in.u[a], dN[a]);
+            k.H += dealii::outer_product(in.u[a], dN[a]);
+          k.F         = dealii::unit_symmetric_tensor<3>() + k.H;
+          k.J_minus_1 = rheology::determinant_minus_one(k.H);
           if (with_modes)
             for (unsigned int a = 0; a < n; ++a)
               for (unsigned int c = 0; c < 3; ++c)
@@ -57,9 +60,11 @@ namespace granflow::ngf
         }
       const double        r = k.r = R + u_r;
       const Tensor<1, 3> &ur = k.grad_u_r, &th = k.grad_theta;
-      k.F[0][0] = 1. + ur[0], k.F[0][1] = 0., k.F[0][2] = ur[2];
-      k.F[1][0] = r * th[0], k.F[1][1] = r / R, k.F[1][2] = r * th[2];
-      k.F[2][0] = grad_u_z[0], k.F[2][1] = 0., k.F[2][2] = 1. + grad_u_z[2];
+      k.H[0][0] = ur[0], k.H[0][1] = 0., k.H[0][2] = ur[2];
+      k.H[1][0] = r * th[0], k.H[1][1] = u_r / R, k.H[1][2] = r * th[2]; // r / R - 1
+      k.H[2][0] = grad_u_z[0], k.H[2][1] = 0., k.H[2][2] = grad_u_z[2];
+      k.F         = dealii::unit_symmetric_tensor<3>() + k.H;
+      k.J_minus_1 = rheology::determinant_minus_one(k.H);
       if (!with_modes)
         return;
       for (unsigned int a = 0; a < n; ++a)
@@ -138,7 +143,7 @@ namespace granflow::ngf
     PointKinematics k0;
     compute_kinematics(kinematics, shape.N_centroid, shape.dN_dX_centroid, shape.R_centroid, in,
                        with_jacobian, k0);
-    const double        J0 = dealii::determinant(k0.F);
+    const double        J0 = 1. + k0.J_minus_1;
     std::vector<double> tr_dL0(n_dofs, 0.);
     if (with_jacobian && J0 > 0.)
       {
@@ -161,18 +166,21 @@ namespace granflow::ngf
         double g = 0.;
         for (unsigned int a = 0; a < n_nodes; ++a)
           g += N[a] * in.g[a];
-        const double J = dealii::determinant(k.F);
+        const double J = 1. + k.J_minus_1;
         if (!(J > 0.) || !(J0 > 0.) || !std::isfinite(g))
           {
             out.residual = std::numeric_limits<double>::quiet_NaN();
             return;
           }
-        const Tensor2 F_bar = std::cbrt(J0 / J) * k.F;
-        const auto   &pt    = out.points[q] =
-            local
-                     ? rheology::local_update(F_bar, in.Fp_n[q], in.dt, moduli, material, with_jacobian)
-                     : rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli, material,
-                                                 with_jacobian);
+        // F_bar - 1 = H + c F with c = (J_0 / J)^{1/3} - 1, each formed without cancellation
+        // (rheology::DisplacementGradient: the elastic strain keeps its relative precision).
+        const double c = std::expm1((std::log1p(k0.J_minus_1) - std::log1p(k.J_minus_1)) / 3.);
+        const rheology::DisplacementGradient F_bar{k.H + c * k.F};
+        out.points[q] = local ? rheology::local_update(F_bar, in.Fp_n[q], in.dt, moduli, material,
+                                                       with_jacobian)
+                              : rheology::nonlocal_update(F_bar, in.Fp_n[q], g, in.dt, moduli,
+                                                          material, with_jacobian);
+        const auto   &pt     = out.points[q];
         const Tensor2 F_inv  = dealii::invert(k.F);
         const Tensor2 F_invT = dealii::transpose(F_inv);
         Tensor<1, 3>  grad_g;
