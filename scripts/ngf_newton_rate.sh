@@ -2,24 +2,27 @@
 # Henann & Kamrin 2016, Section 6.1 / Fig. 2c and 6.2 / Fig. 4c: asymptotically quadratic
 # convergence of the (u, g) Newton procedure on the shear column (GEOMETRY = column, default:
 # P_wall/(phi rho_s G d) = 6.67, v_wall/sqrt(Gd) = 1e-3) or the annulus row (GEOMETRY = annulus:
-# R_i/d = 60, R_i Omega sqrt(rho_s/P_wall) = 1e-3), h/d = 1/3, homogeneous Neumann fluidity conditions, case-file solver settings except the Newton
-# tolerance TOL, default 1e-8: at the case's 1e-6 only increments 12-14 need >= 3 iterations; at 1e-8
-# the iterates run into the round-off floors; at 1e-9 and 1e-10 R_g cannot get below its floor and
-# the run stops with "Newton did not converge").
+# R_i/d = 60, R_i Omega sqrt(rho_s/P_wall) = 1e-3), h/d = 1/3, homogeneous Neumann fluidity
+# conditions, case-file solver settings except the Newton tolerance TOL (default 1e-13) and a fresh
+# factorisation every iteration. The residuals' round-off floors are near 5e-14 (R_u) and 1e-12
+# (R_g) at the paper's moduli (docs/ngf.md); increments may also end on the driver's rule for a
+# Newton correction below 1e-10 of the field.
 # From newton.csv, the accepted attempt of each of the first ten increments that needed at least
 # 3 Newton iterations (the yielding transient; attempts that were cut and repeated are skipped)
-# gives the pairs (R^(k), R^(k+1)) of normalised L_inf residuals.
-# Writes DIR/newton_rate_GEOMETRY.csv (increment, k, R_k_u, R_k1_u, R_k_g, R_k1_g) and DIR/newton_rate_GEOMETRY.png
-# (R^(k+1) against R^(k), log-log, one colour per increment, dashed quadratic guides). Prints the
-# least-squares slope of log R^(k+1) against log R^(k) over the pairs with 0 < R^(k) < 1e-2, again
-# without the pairs whose R^(k+1) is at the round-off floor (R_u < FLOOR_U, default 1e-9; R_g <
-# FLOOR_G, default 1e-7: with Solver/Tolerance = 1e-9 the residuals stagnate and wander there), and
-# the median local order log(R^(k+1)/R^(k)) / log(R^(k)/R^(k-1)) within each increment over the
-# iterates with R^(k) < 1 and R^(k+1) above the floor (the pooled fit mixes increments whose
-# constants differ, and R_u^(k+1) is driven by R_g^(k) while R_g is large).
+# gives the pairs (R^(k), R^(k+1)) of normalised L_inf residuals, and of the Newton corrections
+# c^(k) (L_inf, relative to the field's L_inf), the paper's footnote's measure of the error in the
+# degrees of freedom.
+# Writes DIR/newton_rate_GEOMETRY.csv (increment, k, R_k_u, R_k1_u, R_k_g, R_k1_g, c_k_u, c_k1_u,
+# c_k_g, c_k1_g) and DIR/newton_rate_GEOMETRY.png (R^(k+1) against R^(k), log-log, one colour per
+# increment, dashed quadratic guides). Prints, per field, the least-squares slope of log R^(k+1)
+# against log R^(k) over the pairs with 0 < R^(k) < 1e-2, again without the pairs whose R^(k+1) is
+# at the round-off floor (R_u < FLOOR_U, default 1e-13; R_g < FLOOR_G, default 1e-12), and the
+# median local order log(X^(k+1)/X^(k)) / log(X^(k)/X^(k-1)) within each increment over the
+# iterates with X^(k) < 1e-2 and X^(k+1) above the floor (1e-13 for the corrections), for X the
+# residual and the correction (the pooled fit mixes increments whose constants differ).
 #   scripts/ngf_newton_rate.sh [BUILD_DIR] [OUT_DIR] [TOL] [FLOOR_U] [FLOOR_G] [GEOMETRY]
 set -euo pipefail
-build=${1:-build} out=${2:-results/henann2016} tol=${3:-1e-8} floor_u=${4:-1e-9} floor_g=${5:-1e-7}
+build=${1:-build} out=${2:-results/henann2016} tol=${3:-1e-13} floor_u=${4:-1e-13} floor_g=${5:-1e-12}
 geometry=${6:-column}
 case $geometry in
   column) case_file=cases/henann2016/linear_shear_gravity.prm figure="Fig. 2c"
@@ -47,14 +50,15 @@ for r in rows:
     inc, it = int(r["increment"]), int(r["iteration"])
     if it == 0:
         attempts[inc] = []
-    attempts[inc].append((float(r["R_u"]), float(r["R_g"])))
+    attempts[inc].append((float(r["R_u"]), float(r["R_g"]), float(r["correction_u"]), float(r["correction_g"])))
 chosen = [inc for inc in sorted(attempts) if len(attempts[inc]) - 1 >= 3][:10]
 with open(f"{out}/newton_rate_{sys.argv[6]}.csv", "w") as f:
-    f.write("increment,k,R_k_u,R_k1_u,R_k_g,R_k1_g\n")
+    f.write("increment,k,R_k_u,R_k1_u,R_k_g,R_k1_g,c_k_u,c_k1_u,c_k_g,c_k1_g\n")
     for inc in chosen:
         a = attempts[inc]
         for k in range(len(a) - 1):
-            f.write(f"{inc},{k},{a[k][0]!r},{a[k + 1][0]!r},{a[k][1]!r},{a[k + 1][1]!r}\n")
+            f.write(f"{inc},{k},{a[k][0]!r},{a[k + 1][0]!r},{a[k][1]!r},{a[k + 1][1]!r},"
+                    f"{a[k][2]!r},{a[k + 1][2]!r},{a[k][3]!r},{a[k + 1][3]!r}\n")
 print(f"increments with >= 3 Newton iterations (first ten): {chosen}")
 print("iterations per chosen increment:", [len(attempts[i]) - 1 for i in chosen])
 def slope(pairs):
@@ -74,11 +78,15 @@ for j, name in enumerate(("u", "g")):
         all_pairs += pairs
         ax.loglog([p[0] for p in pairs], [p[1] for p in pairs], "o", color=colors[c % 10], ms=5, label=f"increment {inc}")
     floor = floors[j]
-    local = []
-    for inc in chosen:
-        a = [r[j] for r in attempts[inc]]
-        local += [math.log(a[k + 1] / a[k]) / math.log(a[k] / a[k - 1]) for k in range(1, len(a) - 1)
-                  if a[k] < 1 and a[k + 1] >= floor and a[k - 1] > 0 and a[k] != a[k - 1]]
+    def local_orders(column, floor):
+        orders = []
+        for inc in chosen:
+            a = [r[column] for r in attempts[inc] if not math.isnan(r[column])]
+            orders += [math.log(a[k + 1] / a[k]) / math.log(a[k] / a[k - 1]) for k in range(1, len(a) - 1)
+                       if a[k] < 1e-2 and a[k + 1] >= floor and a[k - 1] > 0 and a[k] != a[k - 1]]
+        return orders
+    local = local_orders(j, floor)
+    local_c = local_orders(j + 2, 1e-13)
     ax.axhline(floor, color="gray", ls=":", lw=1)
     xs = [p[0] for p in all_pairs]
     lo, hi = min(xs), max(xs)
@@ -95,6 +103,9 @@ for j, name in enumerate(("u", "g")):
     print(f"R_{name}: slope of log R^(k+1) vs log R^(k), R^(k) < 1e-2: {s_all[0]:.3f} over {s_all[1]} pairs; "
           f"excluding R^(k+1) < {floor:g}: {s_flo[0]:.3f} over {s_flo[1]} pairs; "
           f"local orders within increments: median {med:.2f} of {len(local)} {[round(x, 2) for x in local]}")
+    med_c = statistics.median(local_c) if local_c else float("nan")
+    print(f"  correction of {name}: local orders within increments: median {med_c:.2f} of {len(local_c)} "
+          f"{[round(x, 2) for x in local_c]}")
 axs[0].legend(fontsize=7)
 fig.suptitle(f"Henann & Kamrin 2016 {sys.argv[7]}: Newton residuals (tolerance {sys.argv[5]}), dashed: quadratic R^(k+1) = c R^(k)^2", fontsize=10)
 fig.tight_layout(); fig.savefig(f"{out}/newton_rate_{sys.argv[6]}.png", dpi=130)

@@ -41,6 +41,9 @@ namespace granflow::ngf
     {
       unsigned int increment, iteration;
       double       R_u, R_g;
+      /// the Newton correction from this iterate, L_inf relative to the field's L_inf (NaN where
+      /// none was computed: the last iterate of an attempt)
+      double dU_u = std::numeric_limits<double>::quiet_NaN(), dU_g = dU_u;
     };
 
     /// One run of a geometry: dim = 3 are bricks (the shear column of Henann 6.1, the annulus slice
@@ -631,9 +634,11 @@ namespace granflow::ngf
               dg = std::max(dg, std::abs(dU[i])), g_max = std::max(g_max, std::abs(U[i]));
             else
               du = std::max(du, std::abs(dU[i])), u_max = std::max(u_max, std::abs(U[i]));
+          newton_log.back().dU_u = u_max > 0. ? du / u_max : du;
+          newton_log.back().dU_g = g_max > 0. ? dg / g_max : dg;
           log.table() << std::setw(36) << "correction" << std::scientific << std::setprecision(3)
-                      << std::setw(12) << (u_max > 0. ? du / u_max : du) << std::setw(12)
-                      << (g_max > 0. ? dg / g_max : dg) << std::defaultfloat << '\n';
+                      << std::setw(12) << newton_log.back().dU_u << std::setw(12)
+                      << newton_log.back().dU_g << std::defaultfloat << '\n';
           if (fresh && du <= 1e-10 * u_max && dg <= 1e-10 * g_max)
             {
               U += dU;
@@ -911,19 +916,23 @@ namespace granflow::ngf
       postprocess(summary, v);
       if (prm.output.write_vtu)
         write_vtu(v);
-      std::vector<double> inc, it, ru, rg;
+      std::vector<double> inc, it, ru, rg, cu, cg;
       for (const auto &r : newton_log)
         {
           inc.push_back(r.increment);
           it.push_back(r.iteration);
           ru.push_back(r.R_u);
           rg.push_back(r.R_g);
+          cu.push_back(r.dU_u);
+          cg.push_back(r.dU_g);
         }
       out.write_csv(
           "history.csv",
           {"wall_displacement_over_d", "mu_wall", "newton_iterations", "max_v_over_v_wall"},
           {h_disp, h_mu, h_iter, h_vmax});
-      out.write_csv("newton.csv", {"increment", "iteration", "R_u", "R_g"}, {inc, it, ru, rg});
+      out.write_csv("newton.csv",
+                    {"increment", "iteration", "R_u", "R_g", "correction_u", "correction_g"},
+                    {inc, it, ru, rg, cu, cg});
       summary["timings"]                  = {{"total_s", log.elapsed()},
                                              {"assembly_s", assembly_seconds},
                                              {"linear_solve_s", solve_seconds}};
