@@ -115,16 +115,16 @@ namespace
   {
     const double wT = std::hypot(w[1], w[2]);
     if (Bi == 0. && w[0] >= 0.)
-      return {0., 0., 0.}; // take-off: gamma = w, gamma_hat = (w_N + mu |w_T|; w_T) in K_{1/mu}
+      return {{0., 0., 0.}}; // take-off: gamma = w, gamma_hat = (w_N + mu |w_T|; w_T) in K_{1/mu}
     if (Bi > 0. && mu == 0.)
       {
         const double s = wT <= Bi ? 1. : Bi / wT;
-        return {std::max(0., -w[0]), -s * w[1], -s * w[2]};
+        return {{std::max(0., -w[0]), -s * w[1], -s * w[2]}};
       }
     if (mu * (-w[0]) >= wT)
-      return {-w[0], -w[1], -w[2]}; // sticking: gamma = 0
+      return {{-w[0], -w[1], -w[2]}}; // sticking: gamma = 0
     const double lN = -w[0];        // sliding: gamma_N = 0, lambda_T = -mu lambda_N w_T / |w_T|
-    return {lN, -mu * lN * w[1] / wT, -mu * lN * w[2] / wT};
+    return {{lN, -mu * lN * w[1] / wT, -mu * lN * w[2] / wT}};
   }
 } // namespace
 
@@ -140,8 +140,8 @@ TEST_P(ConeSolverAllInner, SinglePointMatchesDisjunctiveSolution)
     {
       const double          mu = trial % 4 == 0 ? 0. : 0.2 + 0.8 * std::abs(U(rng));
       const double          Bi = (trial % 4 == 0) ? 0.3 : 0.;
-      std::array<double, 3> w  = {U(rng), U(rng), U(rng)};
-      const ConeProblemData data = single_point_problem({w[0], w[1], w[2]}, mu, Bi);
+      std::array<double, 3> w    = {{U(rng), U(rng), U(rng)}};
+      const ConeProblemData data = single_point_problem({{w[0], w[1], w[2]}}, mu, Bi);
       ConeSolverOptions     options;
       options.inner_solver = GetParam();
       options.residual     = ResidualKind::alart_curnier;

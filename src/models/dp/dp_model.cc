@@ -52,7 +52,7 @@ namespace granflow::dp
     vertex_values_from_points(const std::array<double, 3> &v)
     {
       const double sum = v[0] + v[1] + v[2];
-      return {2. * v[0] - sum / 3., 2. * v[1] - sum / 3., 2. * v[2] - sum / 3.};
+      return {{2. * v[0] - sum / 3., 2. * v[1] - sum / 3., 2. * v[2] - sum / 3.}};
     }
 
     class Problem
@@ -544,7 +544,7 @@ namespace granflow::dp
           div_u[i]    = std::sqrt(2. * dim) * g[0] / w;
           max_D0      = std::max(max_D0, D0_norm[i]);
           // Where the solver's residual is largest (the rheology is violated by this much).
-          const SymVector lv{l[0], l[1], l[2]}, gv{g[0], g[1], g[2]};
+          const SymVector lv{{l[0], l[1], l[2]}}, gv{{g[0], g[1], g[2]}};
           residual[i] = rheology::norm(
             prm.solver.residual == "alart-curnier" || prm.rheology.Bi > 0. ?
               rheology::f_AC(lv, gv, prm.rheology.mu, prm.rheology.Bi) :
@@ -580,7 +580,8 @@ namespace granflow::dp
           {
             cell->get_dof_indices(sdofs);
             const std::size_t base = cell->active_cell_index() * 3;
-            const auto        v    = vertex_values_from_points({values[base], values[base + 1], values[base + 2]});
+            const auto        v =
+                vertex_values_from_points({{values[base], values[base + 1], values[base + 2]}});
             for (unsigned int k = 0; k < 3; ++k)
               field[sdofs[k]] = v[k];
           }
