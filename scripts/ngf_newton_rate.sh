@@ -4,14 +4,15 @@
 # P_wall/(phi rho_s G d) = 6.67, v_wall/sqrt(Gd) = 1e-3) or the annulus row (GEOMETRY = annulus:
 # R_i/d = 60, R_i Omega sqrt(rho_s/P_wall) = 1e-3), h/d = 1/3, homogeneous Neumann fluidity
 # conditions, case-file solver settings except the Newton tolerance TOL (default 1e-13) and a fresh
-# factorisation every iteration. The residuals' round-off floors are near 5e-14 (R_u) and 1e-12
-# (R_g) at the paper's moduli (docs/ngf.md); increments may also end on the driver's rule for a
-# Newton correction below 1e-10 of the field.
+# factorisation every iteration. R_u's round-off floor is near 5e-14 at the paper's moduli
+# (docs/ngf.md); increments also end on the driver's rule for a full Newton correction below
+# 1e-10 of each field, before R_g reaches a floor.
 # From newton.csv, the accepted attempt of each of the first ten increments that needed at least
 # 3 Newton iterations (the yielding transient; attempts that were cut and repeated are skipped)
-# gives the pairs (R^(k), R^(k+1)) of normalised L_inf residuals, and of the Newton corrections
-# c^(k) (L_inf, relative to the field's L_inf), the paper's footnote's measure of the error in the
-# degrees of freedom.
+# gives the pairs (R^(k), R^(k+1)) of normalised L_inf residuals, and of the full Newton
+# corrections c^(k) (L_inf, relative to the field's L_inf; before any line search, which the
+# yielding increments do not need), the paper's footnote's measure of the error in the degrees of
+# freedom.
 # Writes DIR/newton_rate_GEOMETRY.csv (increment, k, R_k_u, R_k1_u, R_k_g, R_k1_g, c_k_u, c_k1_u,
 # c_k_g, c_k1_g) and DIR/newton_rate_GEOMETRY.png (R^(k+1) against R^(k), log-log, one colour per
 # increment, dashed quadratic guides). Prints, per field, the least-squares slope of log R^(k+1)

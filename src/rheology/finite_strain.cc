@@ -64,8 +64,8 @@ namespace granflow::rheology
     log_divided_difference(const double a, const double b)
     {
       const double x = (a - b) / (1. + b);
-      if (std::abs(x) < 1e-4)
-        return (1. - x / 2. + x * x / 3.) / (1. + b);
+      if (std::abs(x) < 1e-4) // series of log1p(x) / x, truncated at x^4 / 5 < 2e-17
+        return (1. - x / 2. + x * x / 3. - x * x * x / 4.) / (1. + b);
       return std::log1p(x) / (a - b);
     }
 

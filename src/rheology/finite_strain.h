@@ -72,8 +72,10 @@ namespace granflow::rheology
   /// B^e = F^e F^e^T differ from 1 by little. Formed from F itself, their O(1) entries carry an
   /// absolute round-off of 1e-16, a relative error of 1e-16 / epsilon^e in the stress; that error,
   /// varying with the iterate, is the floor of Newton's residual (docs/ngf.md). From H, the update
-  /// forms F^e - 1 and B^e - 1 directly and takes ln(B^e) through log1p of the eigenvalues of
-  /// B^e - 1, so the stress keeps its relative precision however small the elastic strain.
+  /// forms F^e - 1 = H + P + H P and B^e - 1 directly and takes ln(B^e) through log1p of the
+  /// eigenvalues of B^e - 1. What remains is the cancellation of H against P = F^p_n^{-1} - 1, a
+  /// relative error of about 1e-16 |H| / epsilon^e: small while the total deformation is small, as
+  /// in the yielding transient, and back to the old size once |H| is of order 1.
   struct DisplacementGradient
   {
     Tensor2 H; ///< F - 1

@@ -41,8 +41,9 @@ namespace granflow::ngf
     {
       unsigned int increment, iteration;
       double       R_u, R_g;
-      /// the Newton correction from this iterate, L_inf relative to the field's L_inf (NaN where
-      /// none was computed: the last iterate of an attempt)
+      /// the full Newton correction from this iterate (before any line search and the g >= 0
+      /// projection), L_inf relative to the field's L_inf (NaN where none was computed: the last
+      /// iterate of an attempt)
       double dU_u = std::numeric_limits<double>::quiet_NaN(), dU_g = dU_u;
     };
 
