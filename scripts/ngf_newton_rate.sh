@@ -100,7 +100,7 @@ for j, name in enumerate(("u", "g")):
     s_flo = slope([p for p in all_pairs if p[0] < 1e-2 and p[1] >= floor])
     med = statistics.median(local) if local else float("nan")
     ax.set_title(f"{name}: fit slope {s_all[0]:.2f} (R^(k) < 1e-2), {s_flo[0]:.2f} (also R^(k+1) >= {floor:g});\n"
-                 f"median local order {med:.2f} (dotted: round-off floor)", fontsize=9)
+                 f"median local order {med:.2f} (dotted: FLOOR, the fit and orders exclude R^(k+1) below it)", fontsize=9)
     print(f"R_{name}: slope of log R^(k+1) vs log R^(k), R^(k) < 1e-2: {s_all[0]:.3f} over {s_all[1]} pairs; "
           f"excluding R^(k+1) < {floor:g}: {s_flo[0]:.3f} over {s_flo[1]} pairs; "
           f"local orders within increments: median {med:.2f} of {len(local)} {[round(x, 2) for x in local]}")
