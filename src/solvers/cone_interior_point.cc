@@ -46,15 +46,6 @@ namespace granflow::solvers
       using Block  = std::array<double, n>;
       using Matrix = std::array<std::array<double, n>, n>;
 
-      static double
-      bar_norm(const Block &x)
-      {
-        double s = 0.;
-        for (std::size_t j = 1; j < n; ++j)
-          s += x[j] * x[j];
-        return std::sqrt(s);
-      }
-
       /// x^T J y, J = diag(1, -1, ..., -1)
       static double
       jdot(const Block &x, const Block &y)
@@ -104,7 +95,7 @@ namespace granflow::solvers
       static Block
       power(const Block &x, const double p)
       {
-        const double nb = bar_norm(x), big = x[0] + nb;
+        const double nb = rheology::norm_T(x), big = x[0] + nb;
         const double small = (x[0] - nb) * big > 0. ? jdot(x, x) / big : 0.;
         const double a = std::pow(small, p), b = std::pow(big, p);
         Block        r;
@@ -425,7 +416,7 @@ namespace granflow::solvers
         for (std::size_t i = 0; i < n_points; ++i)
           {
             const Block  g = block(gamma_u, i);
-            const double s = data.mu[i] * S::bar_norm(g);
+            const double s = data.mu[i] * rheology::norm_T(g);
             for (std::size_t a = 0; a < n; ++a)
               r_z[i * n + a] = (a == 0 ? g[0] + s : data.mu[i] * g[a]) - sl[i * n + a];
           }
@@ -449,7 +440,7 @@ namespace granflow::solvers
         for (std::size_t i = 0; i < n_points; ++i)
           {
             Block b = block(x, i);
-            b[0] += std::max(0., S::bar_norm(b) - b[0]) + margin;
+            b[0] += std::max(0., rheology::norm_T(b) - b[0]) + margin;
             set_block(x, i, b);
           }
       }
@@ -505,7 +496,7 @@ namespace granflow::solvers
         for (std::size_t i = 0; i < n_points; ++i)
           {
             const Block  g  = block(gamma_u, i);
-            const double gt = S::bar_norm(g);
+            const double gt = rheology::norm_T(g);
             sigma[i]        = Block{};
             for (std::size_t b = 1; b < n; ++b)
               sigma[i][b] = gt > 0. ? data.mu[i] * g[b] / gt : 0.; // a subgradient at gamma_T = 0

@@ -12,10 +12,11 @@ namespace granflow::solvers
   class UmfpackSolver
   {
   public:
-    /// diagonal_pivoting: symmetric strategy (AMD on M + M^T) taking every nonzero diagonal entry
-    /// as pivot. Meant for matrices close to symmetric quasi-definite ([P, B^T; B, -C] with P and C
-    /// positive definite), for which any symmetric ordering is stable (Vanderbei 1995); threshold
-    /// pivoting there rejects the small diagonal entries and multiplies the fill.
+    /// diagonal_pivoting: symmetric strategy (METIS nested dissection of M + M^T) taking every
+    /// nonzero diagonal entry as pivot. Meant for matrices close to symmetric quasi-definite ([P,
+    /// B^T; B, -C] with P and C positive definite), for which any symmetric ordering is stable
+    /// (Vanderbei 1995); threshold pivoting there rejects the small diagonal entries and multiplies
+    /// the fill.
     explicit UmfpackSolver(bool diagonal_pivoting = false);
     ~UmfpackSolver();
     UmfpackSolver(const UmfpackSolver &) = delete;

@@ -801,8 +801,9 @@ namespace granflow::ngf
                   s << "Newton did not converge at wall displacement " << u_wall / d
                     << " d even with an increment of " << du / d << " d";
                   // The last attempt's least residuals: below 1e-6 (the default tolerance) but
-                  // not below a tighter one, they are at their round-off floor (docs/ngf.md), and a
-                  // looser tolerance is the remedy.
+                  // not below a tighter one, they may be at their round-off floor (about 5e-14 for
+                  // R_u while the total deformation is small, more once it is of order 1;
+                  // docs/ngf.md), and a looser tolerance is the remedy.
                   double R_u_min = std::numeric_limits<double>::infinity(), R_g_min = R_u_min;
                   for (auto r = newton_log.rbegin(); r != newton_log.rend(); ++r)
                     {
@@ -816,7 +817,7 @@ namespace granflow::ngf
                     << R_g_min << ")";
                   if (std::max(R_u_min, R_g_min) < 1e-6)
                     s << "; below 1e-6 but not below Solver/Tolerance = " << tol
-                      << ", they have likely reached their round-off floor (docs/ngf.md): try a "
+                      << ", they may have reached their round-off floor (docs/ngf.md): try a "
                          "larger tolerance";
                   failure = s.str();
                   U       = U_n;
