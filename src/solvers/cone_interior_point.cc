@@ -519,13 +519,12 @@ namespace granflow::solvers
         // Solves for the complementarity right-hand side rc: W dsl + W^-1 dz = lambda \ rc.
         const auto direction = [&](const std::vector<Block> &rc) {
           std::copy(r_x.begin(), r_x.end(), rhs.begin());
-          std::vector<Block> c(n_points);
+          std::vector<Block> W_inv_c(n_points); // W^-1 c with c = lambda \ rc
           for (std::size_t i = 0; i < n_points; ++i)
             {
-              c[i]          = S::arrow_solve(lambda[i], rc[i]);
-              const Block v = S::apply(W_inv[i], c[i]);
+              W_inv_c[i] = S::apply(W_inv[i], S::arrow_solve(lambda[i], rc[i]));
               for (std::size_t a = 0; a < n; ++a)
-                rhs[n_u + i * n + a] = r_z[i * n + a] - v[a];
+                rhs[n_u + i * n + a] = r_z[i * n + a] - W_inv_c[i][a];
             }
           lu.solve(x, rhs);
           du.assign(x.begin(), x.begin() + n_u);
@@ -533,9 +532,9 @@ namespace granflow::solvers
           // dsl = W^-1 c - W^-2 dz
           for (std::size_t i = 0; i < n_points; ++i)
             {
-              const Block v = S::apply(W_inv[i], c[i]), w = S::apply(W_inv2[i], block(dz, i));
+              const Block w = S::apply(W_inv2[i], block(dz, i));
               for (std::size_t a = 0; a < n; ++a)
-                dsl[i * n + a] = v[a] - w[a];
+                dsl[i * n + a] = W_inv_c[i][a] - w[a];
             }
         };
 

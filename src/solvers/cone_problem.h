@@ -120,8 +120,12 @@ namespace granflow::solvers
   ConeProblemData
   load_cone_problem(const std::string &file);
 
+  /// The case files' names: "pg", "apgd", "spg" (std::invalid_argument otherwise).
   InnerSolver
   parse_inner_solver(const std::string &name);
   std::string
   to_string(InnerSolver s);
+  /// The case files' names: "fixed point", "interior point" (std::invalid_argument otherwise).
+  ConeMethod
+  parse_cone_method(const std::string &name);
 } // namespace granflow::solvers

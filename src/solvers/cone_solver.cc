@@ -558,6 +558,17 @@ namespace granflow::solvers
     throw std::invalid_argument("unknown inner solver '" + name + "': expected pg, apgd or spg");
   }
 
+  ConeMethod
+  parse_cone_method(const std::string &name)
+  {
+    if (name == "fixed point")
+      return ConeMethod::fixed_point;
+    if (name == "interior point")
+      return ConeMethod::interior_point;
+    throw std::invalid_argument("unknown cone method '" + name +
+                                "': expected fixed point or interior point");
+  }
+
   std::string
   to_string(const InnerSolver s)
   {

@@ -321,6 +321,16 @@ TEST(ConeProblemIO, DumpAndLoadRoundTrip)
   EXPECT_EQ(back.Bi, data.Bi);
 }
 
+TEST(ConeSolverNames, TheCaseFilesNamesParseAndOthersAreRejected)
+{
+  EXPECT_EQ(parse_cone_method("fixed point"), ConeMethod::fixed_point);
+  EXPECT_EQ(parse_cone_method("interior point"), ConeMethod::interior_point);
+  EXPECT_THROW(parse_cone_method("interior-point"), std::invalid_argument);
+  for (const InnerSolver s : {InnerSolver::projected_gradient, InnerSolver::apgd, InnerSolver::spg})
+    EXPECT_EQ(parse_inner_solver(to_string(s)), s);
+  EXPECT_THROW(parse_inner_solver("sor"), std::invalid_argument);
+}
+
 INSTANTIATE_TEST_SUITE_P(InnerSolvers,
                          ConeSolverAllInner,
                          ::testing::Values(InnerSolver::projected_gradient,

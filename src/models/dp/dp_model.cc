@@ -381,9 +381,7 @@ namespace granflow::dp
     Problem::solve_cone_problem()
     {
       solvers::ConeSolverOptions options;
-      options.method               = prm.solver.method == "interior point" ?
-                                       solvers::ConeMethod::interior_point :
-                                       solvers::ConeMethod::fixed_point;
+      options.method               = solvers::parse_cone_method(prm.solver.method);
       options.inner_solver         = solvers::parse_inner_solver(prm.solver.inner_solver);
       options.residual             = prm.solver.residual == "alart-curnier" ?
                                        solvers::ResidualKind::alart_curnier :
@@ -503,7 +501,9 @@ namespace granflow::dp
         {
           std::ostringstream s;
           s << "the "
-            << (prm.solver.method == "interior point" ? "interior-point method" : "Cadoux fixed point")
+            << (solvers::parse_cone_method(prm.solver.method) == solvers::ConeMethod::interior_point
+                    ? "interior-point method"
+                    : "Cadoux fixed point")
             << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
             << stats.residual << " after " << stats.outer_iterations
             << " iterations; raise Solver/Max outer iterations, Max inner iterations or Max "

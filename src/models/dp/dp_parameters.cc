@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 #include "core/parameters.h"
+#include "solvers/cone_problem.h"
 
 #include <limits>
 
@@ -157,7 +158,8 @@ namespace granflow::dp
     require_positive(geometry.mesh_size, f, "Geometry/Mesh size");
     require_positive(rheology.Re, f, "Rheology/Re");
     require_positive(solver.tolerance, f, "Solver/Tolerance");
-    if (solver.method == "interior point" && !(rheology.mu > 0. && rheology.Bi == 0.))
+    if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::interior_point &&
+        !(rheology.mu > 0. && rheology.Bi == 0.))
       throw InputError(f, "Solver/Method",
                        "= interior point needs Rheology/mu > 0 and Rheology/Bi = 0; use fixed point");
     if (geometry.shape == "file" && geometry.mesh_file.empty())
