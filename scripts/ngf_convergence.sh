@@ -113,7 +113,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 out, geometry, title = sys.argv[1:4]
 fig, axs = plt.subplots(2, 2, figsize=(10, 8))
-for j, (bc, title) in enumerate((("neumann", "(a) Neumann fluidity BC"), ("dirichlet", "(b) g = 0 at the wall"))):
+for j, (bc, panel) in enumerate((("neumann", "(a) Neumann fluidity BC"), ("dirichlet", "(b) g = 0 at the wall"))):
     rows = list(csv.DictReader(open(f"{out}/convergence_{geometry}_{bc}.csv")))
     h = [float(r["h_over_d"]) for r in rows]
     ref_h = float(rows[0]["h_reference_over_d"])
@@ -124,7 +124,7 @@ for j, (bc, title) in enumerate((("neumann", "(a) Neumann fluidity BC"), ("diric
     e0 = max(float(rows[0]["error_u"]), float(rows[0]["error_g"]))
     ax.loglog([h[0], h[-1]], [e0 * 1.5, e0 * 1.5 * h[-1] / h[0]], "k--", lw=1, label="slope 1")
     ax.set_xlabel("h/d"); ax.set_ylabel("relative L2 error (91)")
-    ax.set_title(f"{title}, reference h/d = 1/{round(1 / ref_h)}"); ax.grid(alpha=0.3, which="both"); ax.legend(fontsize=8)
+    ax.set_title(f"{panel}, reference h/d = 1/{round(1 / ref_h)}"); ax.grid(alpha=0.3, which="both"); ax.legend(fontsize=8)
     ax = axs[1][j]
     ax.plot([1 / x for x in h], [float(r["mu_wall"]) for r in rows], "o-", label="FE")
     ax.axhline(float(rows[0]["mu_wall_reference"]), color="k", ls="--", lw=1, label="reference mesh")
