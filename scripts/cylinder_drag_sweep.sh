@@ -42,7 +42,8 @@ for D in sorted({r["D"] for r in rows}):
         pts = [r for r in sel if r["converged"] == done]
         ax.loglog([float(r["Froude"]) for r in pts], [float(r["drag_coefficient"]) for r in pts], "o",
                   color=line.get_color(), markerfacecolor=face)
-ax.set_title("filled: residual <= TOL; open: stopped above it (see drag.csv)", fontsize=9)
+fig.suptitle("Daviet & Bertails-Descoubes 2016 Fig. 13: C_D against Fr, mu = 0.5, Re = 100", fontsize=10)
+ax.set_title("filled: residual <= TOL; open: stopped above it (column converged of the CSV)", fontsize=9)
 ax.set_xlabel("Fr = U_inf / sqrt(D)"); ax.set_ylabel("C_D"); ax.grid(alpha=0.3, which="both"); ax.legend()
 fig.tight_layout(); fig.savefig(sys.argv[2], dpi=130)
 PY
