@@ -14,8 +14,8 @@
 # yielding increments do not need), the paper's footnote's measure of the error in the degrees of
 # freedom.
 # Writes DIR/newton_rate_GEOMETRY.csv (increment, k, R_k_u, R_k1_u, R_k_g, R_k1_g, c_k_u, c_k1_u,
-# c_k_g, c_k1_g) and DIR/newton_rate_GEOMETRY.png (R^(k+1) against R^(k), log-log, one colour per
-# increment, dashed quadratic guides). Prints, per field, the least-squares slope of log R^(k+1)
+# c_k_g, c_k1_g) and DIR/newton_rate_GEOMETRY.png (top: R^(k+1) against R^(k); bottom: c^(k+1)
+# against c^(k); log-log, one colour per increment, dashed quadratic guides). Prints, per field, the least-squares slope of log R^(k+1)
 # against log R^(k) over the pairs with 0 < R^(k) < 1e-2, again without the pairs whose R^(k+1) is
 # at the round-off floor (R_u < FLOOR_U, default 1e-13; R_g < FLOOR_G, default 1e-12), and the
 # median local order log(X^(k+1)/X^(k)) / log(X^(k)/X^(k-1)) within each increment over the
@@ -68,47 +68,54 @@ def slope(pairs):
     x = [math.log10(p[0]) for p in pairs]; y = [math.log10(p[1]) for p in pairs]
     mx, my = sum(x) / len(x), sum(y) / len(y)
     return sum((a - mx) * (b - my) for a, b in zip(x, y)) / sum((a - mx) ** 2 for a in x), len(pairs)
-fig, axs = plt.subplots(1, 2, figsize=(10, 4.5))
+fig, axs = plt.subplots(2, 2, figsize=(11, 9.5))
 colors = plt.cm.tab10.colors
+def local_orders(column, floor):
+    orders = []
+    for inc in chosen:
+        a = [r[column] for r in attempts[inc] if not math.isnan(r[column])]
+        orders += [math.log(a[k + 1] / a[k]) / math.log(a[k] / a[k - 1]) for k in range(1, len(a) - 1)
+                   if a[k] < 1e-2 and a[k + 1] >= floor and a[k - 1] > 0 and a[k] != a[k - 1]]
+    return orders
+# top row: the residuals R (Fig. 2c / 4c); bottom row: the full Newton corrections c (the error in
+# the degrees of freedom of the paper's footnote), each against its previous value
 for j, name in enumerate(("u", "g")):
-    ax = axs[j]
-    all_pairs = []
-    for c, inc in enumerate(chosen):
-        a = [r[j] for r in attempts[inc]]
-        pairs = [(a[k], a[k + 1]) for k in range(len(a) - 1) if a[k] > 0 and a[k + 1] > 0]
-        all_pairs += pairs
-        ax.loglog([p[0] for p in pairs], [p[1] for p in pairs], "o", color=colors[c % 10], ms=5, label=f"increment {inc}")
-    floor = floors[j]
-    def local_orders(column, floor):
-        orders = []
-        for inc in chosen:
-            a = [r[column] for r in attempts[inc] if not math.isnan(r[column])]
-            orders += [math.log(a[k + 1] / a[k]) / math.log(a[k] / a[k - 1]) for k in range(1, len(a) - 1)
-                       if a[k] < 1e-2 and a[k + 1] >= floor and a[k - 1] > 0 and a[k] != a[k - 1]]
-        return orders
-    local = local_orders(j, floor)
-    local_c = local_orders(j + 2, 1e-13)
-    ax.axhline(floor, color="gray", ls=":", lw=1)
-    xs = [p[0] for p in all_pairs]
-    lo, hi = min(xs), max(xs)
-    for c0 in (1e-2, 1, 1e2):
-        ax.loglog([lo, hi], [c0 * lo ** 2, c0 * hi ** 2], "k--", lw=0.8)
-    ax.set_ylim(min(p[1] for p in all_pairs) / 3, max(p[1] for p in all_pairs) * 3)
-    ax.set_xlabel(f"R_{name}^(k)"); ax.set_ylabel(f"R_{name}^(k+1)")
-    ax.grid(alpha=0.3, which="both")
-    s_all = slope([p for p in all_pairs if p[0] < 1e-2])
-    s_flo = slope([p for p in all_pairs if p[0] < 1e-2 and p[1] >= floor])
-    med = statistics.median(local) if local else float("nan")
-    ax.set_title(f"{name}: fit slope {s_all[0]:.2f} (R^(k) < 1e-2), {s_flo[0]:.2f} (also R^(k+1) >= {floor:g});\n"
-                 f"median local order {med:.2f} (dotted: FLOOR, the fit and orders exclude R^(k+1) below it)", fontsize=9)
-    print(f"R_{name}: slope of log R^(k+1) vs log R^(k), R^(k) < 1e-2: {s_all[0]:.3f} over {s_all[1]} pairs; "
-          f"excluding R^(k+1) < {floor:g}: {s_flo[0]:.3f} over {s_flo[1]} pairs; "
-          f"local orders within increments: median {med:.2f} of {len(local)} {[round(x, 2) for x in local]}")
-    med_c = statistics.median(local_c) if local_c else float("nan")
-    print(f"  correction of {name}: local orders within increments: median {med_c:.2f} of {len(local_c)} "
-          f"{[round(x, 2) for x in local_c]}")
-axs[0].legend(fontsize=7)
-fig.suptitle(f"Henann & Kamrin 2016 {sys.argv[7]}: Newton residuals (tolerance {sys.argv[5]}), dashed: quadratic R^(k+1) = c R^(k)^2", fontsize=10)
+    for row, (column, symbol, floor) in enumerate(((j, "R", floors[j]), (j + 2, "c", 1e-13))):
+        ax = axs[row][j]
+        all_pairs = []
+        for c, inc in enumerate(chosen):
+            a = [r[column] for r in attempts[inc]]
+            pairs = [(a[k], a[k + 1]) for k in range(len(a) - 1) if a[k] > 0 and a[k + 1] > 0]
+            all_pairs += pairs
+            ax.loglog([p[0] for p in pairs], [p[1] for p in pairs], "o", color=colors[c % 10], ms=5,
+                      label=f"increment {inc}")
+        local = local_orders(column, floor)
+        ax.axhline(floor, color="gray", ls=":", lw=1)
+        xs = [p[0] for p in all_pairs]
+        lo, hi = min(xs), max(xs)
+        for c0 in (1e-2, 1, 1e2):
+            ax.loglog([lo, hi], [c0 * lo ** 2, c0 * hi ** 2], "k--", lw=0.8)
+        ax.set_ylim(min(p[1] for p in all_pairs) / 3, max(p[1] for p in all_pairs) * 3)
+        ax.set_xlabel(f"{symbol}_{name}^(k)"); ax.set_ylabel(f"{symbol}_{name}^(k+1)")
+        ax.grid(alpha=0.3, which="both")
+        med = statistics.median(local) if local else float("nan")
+        if row == 0:
+            s_all = slope([p for p in all_pairs if p[0] < 1e-2])
+            s_flo = slope([p for p in all_pairs if p[0] < 1e-2 and p[1] >= floor])
+            ax.set_title(f"residual R_{name}: fit slope {s_all[0]:.2f} (R^(k) < 1e-2), {s_flo[0]:.2f} (also "
+                         f"R^(k+1) >= {floor:g})\nmedian local order {med:.2f}; dotted: FLOOR\n(the fit and the "
+                         f"orders exclude R^(k+1) below it)", fontsize=9)
+            print(f"R_{name}: slope of log R^(k+1) vs log R^(k), R^(k) < 1e-2: {s_all[0]:.3f} over {s_all[1]} pairs; "
+                  f"excluding R^(k+1) < {floor:g}: {s_flo[0]:.3f} over {s_flo[1]} pairs; "
+                  f"local orders within increments: median {med:.2f} of {len(local)} {[round(x, 2) for x in local]}")
+        else:
+            ax.set_title(f"Newton correction of {name} (L_inf, relative to the field):\nmedian local order "
+                         f"{med:.2f}; dotted: 1e-13 (orders exclude c^(k+1) below it)", fontsize=9)
+            print(f"  correction of {name}: local orders within increments: median {med:.2f} of {len(local)} "
+                  f"{[round(x, 2) for x in local]}")
+axs[0][0].legend(fontsize=7)
+fig.suptitle(f"Henann & Kamrin 2016 {sys.argv[7]}: Newton residuals (tolerance {sys.argv[5]});\n"
+             f"dashed: quadratic R^(k+1) = c R^(k)^2, c = 1e-2, 1, 1e2", fontsize=10)
 fig.tight_layout(); fig.savefig(f"{out}/newton_rate_{sys.argv[6]}.png", dpi=130)
 PY
 echo "$out/newton_rate_$geometry.csv"
