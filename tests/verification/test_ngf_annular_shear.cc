@@ -29,6 +29,25 @@ namespace
     double rate; // R_i Omega sqrt(rho_s / P_wall)
   };
 
+  /// The finite-difference solution of (92) with the exact Couette kinematics on a 0.01 d grid,
+  /// from the case's own physical parameters, at R_i / d = R_i and R_i Omega sqrt(rho_s / P_wall) =
+  /// rate.
+  postprocess::Nonlocal1dProfile
+  reference_solution(const ngf::Parameters &parameters, const double R_i, const double rate)
+  {
+    const auto                 &m = parameters.material;
+    const double                d = m.nonlocal.d;
+    postprocess::AnnularShear1d fd;
+    fd.material   = m.nonlocal;
+    fd.P_wall     = parameters.loading.confining_pressure;
+    fd.R_i        = R_i * d;
+    fd.R_o        = fd.R_i + parameters.geometry.gap * d;
+    fd.h          = 0.01 * d;
+    fd.kinematics = postprocess::CouetteKinematics::exact;
+    return postprocess::solve_annular_shear_for_speed(
+        fd, rate * std::sqrt(fd.P_wall / m.nonlocal.rho_s));
+  }
+
   class AnnularShear : public ::testing::TestWithParam<Point>
   {
   };
@@ -46,19 +65,8 @@ namespace
     const auto        summary = test::run_ngf(parameters, name.str());
     const std::string dir     = summary["output_directory"];
 
-    const auto                 &m = parameters.material;
-    const double                d = m.nonlocal.d;
-    postprocess::AnnularShear1d fd;
-    fd.material          = m.nonlocal;
-    fd.P_wall            = parameters.loading.confining_pressure;
-    fd.R_i               = c.R_i * d;
-    fd.R_o               = fd.R_i + parameters.geometry.gap * d;
-    fd.h                 = 0.01 * d;
-    fd.kinematics        = postprocess::CouetteKinematics::exact;
-    const auto reference = postprocess::solve_annular_shear_for_speed(
-        fd, c.rate * std::sqrt(fd.P_wall / m.nonlocal.rho_s));
-
-    test::expect_matches_reference(summary, dir, reference, d);
+    test::expect_matches_reference(summary, dir, reference_solution(parameters, c.R_i, c.rate),
+                                   parameters.material.nonlocal.d);
   }
 
   // The FE's mu_wall is the wall's shear stress over the applied P_wall (the paper's definition,
@@ -78,16 +86,7 @@ namespace
                                          {"Output/Write vtu", "false"}});
     const auto summary = test::run_ngf(parameters, "ngf_annular_shear_wall_stress");
 
-    const auto                 &m = parameters.material;
-    postprocess::AnnularShear1d fd;
-    fd.material          = m.nonlocal;
-    fd.P_wall            = parameters.loading.confining_pressure;
-    fd.R_i               = 60. * m.nonlocal.d;
-    fd.R_o               = fd.R_i + parameters.geometry.gap * m.nonlocal.d;
-    fd.h                 = 0.01 * m.nonlocal.d;
-    fd.kinematics        = postprocess::CouetteKinematics::exact;
-    const double rate      = 1e-3 * std::sqrt(fd.P_wall / m.nonlocal.rho_s);
-    const auto   reference = postprocess::solve_annular_shear_for_speed(fd, rate);
+    const auto reference = reference_solution(parameters, 60., 1e-3);
 
     const double mu_wall = summary["mu_wall"], mu_local = summary["mu_wall_local"];
     const double p_wall  = summary["wall_pressure_over_P_wall"];
