@@ -13,21 +13,32 @@
 
 namespace
 {
-  const char *usage = R"(granflow: finite-element simulator for dense granular flows
+  const char *usage_commands = R"(granflow: finite-element simulator for dense granular flows
 
 Usage:
   granflow run CASE.prm [--set Section/key=value ...] [--output DIR] [--quiet]
   granflow print-parameters MODEL     every entry with default, range and help
   granflow list-cases                 the case files shipped in cases/
   granflow --help | --version
+)";
 
-Models: dp (nonsmooth Drucker-Prager, Daviet & Bertails-Descoubes 2016)
-
+  const char *usage_results = R"(
 Results go to DIR (default results/<case name>): solution.pvd (open in ParaView),
 summary.json, profiles/*.csv, log.txt. Plot a profile with scripts/plot.
 
 Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far kept).
 )";
+
+  /// The help text; its list of models is the registry's, so a new model shows up by itself.
+  void
+  print_usage()
+  {
+    std::cout << usage_commands << "\nModels (the case file's `set Model = ...`):\n";
+    for (const auto &m : granflow::models())
+      std::cout << "  " << m.name << std::string(m.name.size() < 6 ? 6 - m.name.size() : 1, ' ')
+                << m.description << '\n';
+    std::cout << usage_results;
+  }
 
   std::filesystem::path
   cases_directory()
@@ -123,7 +134,7 @@ main(int argc, char **argv)
   const std::vector<std::string> args(argv + 1, argv + argc);
   if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help")
     {
-      std::cout << usage;
+      print_usage();
       return args.empty() ? granflow::exit_status::bad_input : 0;
     }
   if (args[0] == "--version")

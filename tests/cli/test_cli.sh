@@ -27,6 +27,8 @@ check() { # name, expected status, expected text in stderr/stdout, command...
 }
 
 check help 0 "granflow run CASE.prm" "$GRANFLOW" --help
+check help-lists-dp 0 "dp    nonsmooth Drucker-Prager" "$GRANFLOW" --help
+check help-lists-ngf 0 "ngf   nonlocal granular fluidity" "$GRANFLOW" --help
 check version 0 "granflow 0." "$GRANFLOW" --version
 check print-parameters 0 "set mu" "$GRANFLOW" print-parameters dp
 check list-cases 0 "bingham_poiseuille.prm" "$GRANFLOW" list-cases
