@@ -104,7 +104,11 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
         else if (a.rfind("--set=", 0) == 0)
           request.overrides.push_back(granflow::parse_override(a.substr(6)));
         else if (a == "--output")
-          request.output_directory = args[++i];
+          {
+            request.output_directory = args[++i];
+            if (request.output_directory.empty())
+              throw granflow::InputError("--output: empty directory name: expected a path");
+          }
         else if (a == "--quiet")
           request.quiet = true;
         else if (a.rfind("--", 0) == 0)
@@ -118,9 +122,11 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
       throw granflow::InputError("run: missing CASE.prm (see granflow --help)");
     const auto summary = granflow::run_case(request);
     const std::string dir = summary.value("output_directory", std::string());
-    std::cout << "\nDone. Results in " << dir << ":\n"
-              << "  " << dir << "/solution.pvd       open with: paraview " << dir << "/solution.pvd\n"
-              << "  " << dir << "/summary.json       key results\n"
+    std::cout << "\nDone. Results in " << dir << ":\n";
+    if (std::filesystem::exists(std::filesystem::path(dir) / "solution.pvd"))
+      std::cout << "  " << dir << "/solution.pvd       open with: paraview " << dir
+                << "/solution.pvd\n";
+    std::cout << "  " << dir << "/summary.json       key results\n"
               << "  " << dir << "/profiles/*.csv     plot with: scripts/plot " << dir
               << "/profiles/velocity.csv\n"
               << "  " << dir << "/log.txt            iteration tables\n";

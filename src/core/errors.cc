@@ -3,7 +3,9 @@
 namespace granflow
 {
   InputError::InputError(const std::string &file, const std::string &entry, const std::string &what)
-    : std::runtime_error(file + ": entry '" + entry + "': " + what)
+      : std::runtime_error(file + ": entry '" + entry + "': " + what)
+      , entry_(entry)
+      , detail_(what)
   {}
 
   InputError::InputError(const std::string &message)

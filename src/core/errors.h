@@ -15,6 +15,21 @@ namespace granflow
   public:
     InputError(const std::string &file, const std::string &entry, const std::string &what);
     explicit InputError(const std::string &message);
+
+    /// The entry ("Section/key") and the text after it, when the error names one; else empty.
+    const std::string &
+    entry() const
+    {
+      return entry_;
+    }
+    const std::string &
+    detail() const
+    {
+      return detail_;
+    }
+
+  private:
+    std::string entry_, detail_;
   };
 
   /// A solver stopped without reaching its tolerance.

@@ -19,6 +19,25 @@ namespace granflow
       fs::path p = fs::path(path).lexically_normal();
       return p.filename().empty() ? p.parent_path() : p;
     }
+
+    /// Files a run writes (DESIGN.md "Output directory"), relative to the output directory. On
+    /// commit, those a previous run left and this run did not write are removed, so that the
+    /// directory never mixes two runs (e.g. an old solution.pvd beside a run without VTU output).
+    bool
+    is_run_output(const fs::path &relative)
+    {
+      const std::string name   = relative.filename().string(),
+                        parent = relative.parent_path().string();
+      if (parent == "profiles")
+        return relative.extension() == ".csv";
+      if (!parent.empty())
+        return false;
+      for (const char *fixed : {"solution.pvd", "summary.json", "log.txt", "parameters.prm",
+                                "mesh.msh", "history.csv", "newton.csv"})
+        if (name == fixed)
+          return true;
+      return name.rfind("solution-", 0) == 0 && relative.extension() == ".vtu";
+    }
   } // namespace
 
   OutputDirectory::OutputDirectory(const std::string &path)
@@ -28,6 +47,10 @@ namespace granflow
                  .string())
   {
     std::error_code ec;
+    if (fs::exists(final_path, ec) && !fs::is_directory(final_path, ec))
+      throw InputError("--output " + path +
+                       ": exists and is not a directory: expected a directory "
+                       "or a new path");
     fs::remove_all(root, ec);
     fs::create_directories(fs::path(root) / "profiles", ec);
     if (ec)
@@ -48,6 +71,16 @@ namespace granflow
     if (committed)
       return;
     fs::create_directories(final_path);
+    std::vector<fs::path> stale;
+    for (const auto &entry : fs::recursive_directory_iterator(final_path))
+      {
+        const fs::path relative = fs::relative(entry.path(), final_path);
+        if (entry.is_regular_file() && is_run_output(relative) &&
+            !fs::exists(fs::path(root) / relative))
+          stale.push_back(entry.path());
+      }
+    for (const auto &file : stale)
+      fs::remove(file);
     for (const auto &entry : fs::recursive_directory_iterator(root))
       {
         const fs::path target = fs::path(final_path) / fs::relative(entry.path(), root);

@@ -16,7 +16,8 @@ namespace granflow
   class OutputDirectory
   {
   public:
-    /// Creates the staging directory (and profiles/); throws InputError if it cannot.
+    /// Creates the staging directory (and profiles/); throws InputError if it cannot, or if `path`
+    /// exists and is not a directory (checked before any work, so no run is lost to it).
     explicit OutputDirectory(const std::string &path);
     /// Removes the staging directory unless committed.
     ~OutputDirectory();
@@ -24,7 +25,8 @@ namespace granflow
     OutputDirectory &
     operator=(const OutputDirectory &) = delete;
 
-    /// Moves every staged file into the target directory (replacing files of the same name).
+    /// Moves every staged file into the target directory (replacing files of the same name) and
+    /// removes the files of an earlier run there that this run did not write; other files stay.
     void
     commit();
 

@@ -118,6 +118,23 @@ namespace granflow
   }
 
   void
+  validate_naming_overrides(const std::function<void()> &validate,
+                            const std::vector<Override> &overrides)
+  {
+    try
+      {
+        validate();
+      }
+    catch (const InputError &e)
+      {
+        for (auto o = overrides.rbegin(); o != overrides.rend(); ++o)
+          if (!e.entry().empty() && o->path == e.entry())
+            throw InputError("--set " + o->path + "=" + o->value, e.entry(), e.detail());
+        throw;
+      }
+  }
+
+  void
   require_positive(const double value, const std::string &file, const std::string &entry)
   {
     if (!(value > 0.))

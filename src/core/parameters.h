@@ -5,6 +5,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -32,18 +33,33 @@ namespace granflow
   parse_case_file(dealii::ParameterHandler &prm, const std::string &case_file,
                   const std::vector<Override> &overrides);
 
-  /// Declares the entries of a model's Parameters (declare(prm)), parses `case_file` with the
-  /// overrides, and validates (validate()); InputError on bad input.
+  /// Runs `validate`; an InputError about an entry that an override set is re-thrown naming that
+  /// `--set Section/key=value` instead of the case file, which does not hold the value.
+  void
+  validate_naming_overrides(const std::function<void()> &validate,
+                            const std::vector<Override> &overrides);
+
+  /// Declares the entries of a model's Parameters in `prm` (declare(prm)), parses `case_file` with
+  /// the overrides and validates (validate()); InputError on bad input.
+  template <typename ModelParameters>
+  void
+  read_case(ModelParameters &parameters, dealii::ParameterHandler &prm,
+            const std::string &case_file, const std::vector<Override> &overrides)
+  {
+    parameters.declare(prm);
+    parse_case_file(prm, case_file, overrides);
+    parameters.case_file = case_file;
+    validate_naming_overrides([&] { parameters.validate(); }, overrides);
+  }
+
+  /// read_case() into a fresh ParameterHandler.
   template <typename ModelParameters>
   ModelParameters
   load_case(const std::string &case_file, const std::vector<Override> &overrides)
   {
     ModelParameters          parameters;
     dealii::ParameterHandler prm;
-    parameters.declare(prm);
-    parse_case_file(prm, case_file, overrides);
-    parameters.case_file = case_file;
-    parameters.validate();
+    read_case(parameters, prm, case_file, overrides);
     return parameters;
   }
 

@@ -27,10 +27,7 @@ namespace granflow
     {
       ModelParameters          parameters;
       dealii::ParameterHandler prm;
-      parameters.declare(prm);
-      parse_case_file(prm, request.case_file, request.overrides);
-      parameters.case_file = request.case_file;
-      parameters.validate();
+      read_case(parameters, prm, request.case_file, request.overrides);
 
       const std::string  dir = request.output_directory.empty()
                                    ? default_output_directory(request.case_file)

@@ -42,6 +42,14 @@ for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.c
   else echo "FAIL output $f missing"; failures=$((failures + 1)); fi
 done
 
+# A rerun without VTU output into the same directory removes the earlier run's solution files
+# (they would belong to another run) and keeps files a user put there.
+echo "mine" >out/notes.txt
+check rerun-without-vtu 0 "Results in out" "$GRANFLOW" run "$case_file" --output out --quiet --set "Output/Write vtu=false"
+if [ ! -e out/solution.pvd ] && [ ! -e out/solution-0000.vtu ] && [ -s out/summary.json ] && [ -s out/notes.txt ]; then
+  echo "ok   rerun replaces the earlier run's files"; passes=$((passes + 1))
+else echo "FAIL rerun left stale solution files or removed a user's file"; ls out; failures=$((failures + 1)); fi
+
 # The silo of Table 2 on its default mesh: the interior point reaches the case's 1e-6 (exit 0; an
 # unconverged solve would exit 3).
 check silo-interior-point 0 "Results in silo" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
@@ -63,6 +71,9 @@ bad missing-mesh-file "no_such_mesh.msh" --set "Geometry/Shape=file" --set "Geom
 bad missing-boundary "lid" --set "Boundary conditions/No-slip=bottom, lid"
 bad interior-point-needs-mu "Solver/Method" --set "Solver/Method=interior point"
 check missing-case 2 "nosuch.prm" "$GRANFLOW" run nosuch.prm --output keep
+check empty-output 2 "--output" "$GRANFLOW" run "$case_file" --output ""
+echo "a file" >afile
+check output-is-a-file 2 "is not a directory" "$GRANFLOW" run "$case_file" --output afile --quiet
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   nothing lost"; passes=$((passes + 1));
 else echo "FAIL bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi
 
@@ -99,6 +110,19 @@ ngf_bad fluidity-neumann-missing "side" --set "Fluidity boundary conditions/Neum
 ngf_bad fluidity-boundary-of-other-geometry "inner wall" --set "Fluidity boundary conditions/Dirichlet=inner wall: 0"
 check ngf-annulus-no-fd-reference 2 "Output/Reference" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" \
   --output keep --quiet --set "Output/Reference=finite difference"
+ngf_bad fluidity-boundary-twice "a second time" --set "Fluidity boundary conditions/Dirichlet=wall: 0, wall: 5"
+ngf_bad fluidity-boundary-in-both-lists "a second time" --set "Fluidity boundary conditions/Dirichlet=wall: 0" \
+  --set "Fluidity boundary conditions/Neumann=wall: 100"
+ngf_bad fluidity-negative ">= 0" --set "Fluidity boundary conditions/Dirichlet=wall: -5" --set "Output/Reference=none"
+ngf_bad fluidity-nan "finite" --set "Fluidity boundary conditions/Dirichlet=wall: nan" --set "Output/Reference=none"
+ngf_bad fd-reference-of-local-model "Output/Reference" --set "Solver/Fluidity=local"
+ngf_bad fd-reference-unsolvable "the 1D reduction cannot be solved" --set "Material/b=1e300"
+ngf_bad too-many-elements "at most 1e6" --set "Geometry/Depth=1e300"
+ngf_bad tolerance-too-loose "Solver/Tolerance" --set "Solver/Tolerance=0.5"
+ngf_bad first-increment-above-max "Solver/First increment" --set "Solver/First increment=1"
+ngf_bad blames-the-set "--set Material/mu_s=0" --set "Material/mu_s=0"
+check ngf-inner-radius-huge 2 "Inner radius" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
+  --output keep --quiet --set "Geometry/Inner radius=1e20"
 check ngf-element-too-large 2 "Geometry/Element size" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
   --output keep --quiet --set "Geometry/Element size=25"
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   ngf nothing lost"; passes=$((passes + 1));
@@ -110,7 +134,7 @@ for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.c
 done
 check ngf-not-converged 3 "written to" "$GRANFLOW" run "$ngf_case" --output ngf_nc --quiet \
   --set "Solver/Max Newton iterations=1" --set "Solver/Tolerance=1e-14"
-if grep -qF "least residuals of the last attempt: R_u" err.txt; then echo "ok   ngf not-converged names its residuals"; passes=$((passes + 1));
+if grep -qF "best iterate of the last attempt: iteration" err.txt; then echo "ok   ngf not-converged names its residuals"; passes=$((passes + 1));
 else echo "FAIL ngf not-converged message lacks the least residuals"; failures=$((failures + 1)); fi
 if [ -s ngf_nc/summary.json ]; then echo "ok   ngf not-converged keeps summary"; passes=$((passes + 1));
 else echo "FAIL ngf not-converged summary missing"; failures=$((failures + 1)); fi

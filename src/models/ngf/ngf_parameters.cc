@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iomanip>
+#include <sstream>
 
 namespace granflow::ngf
 {
@@ -65,7 +67,8 @@ namespace granflow::ngf
                         "Bed depth of the shear column in grain diameters (6.1: 20), > 0.",
                         Double(0.));
       prm.add_parameter("Inner radius", g.inner_radius,
-                        "Annulus inner radius R_i in grain diameters (6.2: 60), > 0.", Double(0.));
+                        "Annulus inner radius R_i in grain diameters (6.2: 60), in (0, 1e5].",
+                        Double(0., 1e5));
       prm.add_parameter("Gap", g.gap, "Annulus width R_o - R_i in grain diameters (6.2: 20), > 0.",
                         Double(0.));
       prm.add_parameter("Height", g.height,
@@ -76,7 +79,7 @@ namespace granflow::ngf
       prm.add_parameter(
           "Element size", g.element_size,
           "Element size h in grain diameters (6.1: 1/3); rounded so that every length is an "
-          "integer number of elements, > 0.",
+          "integer number of elements, > 0, and at most 1e6 elements in all.",
           Double(0.));
     }
     prm.leave_subsection();
@@ -99,19 +102,20 @@ namespace granflow::ngf
           Double(0.));
       prm.add_parameter("Wall displacement", l.wall_displacement,
                         "Shear column: wall displacement at the end of the run, in grain diameters "
-                        "(6.1: 1), > 0.",
-                        Double(0.));
-      prm.add_parameter(
-          "Wall rotation", l.wall_rotation,
-          "Annulus: rotation of the inner wall at the end of the run [degrees] (6.2, 6.3: 4), > 0.",
-          Double(0.));
+                        "(6.1: 1), in (0, 1e4].",
+                        Double(0., 1e4));
+      prm.add_parameter("Wall rotation", l.wall_rotation,
+                        "Annulus: rotation of the inner wall at the end of the run [degrees] (6.2, "
+                        "6.3: 4), in (0, 3600].",
+                        Double(0., 3600.));
     }
     prm.leave_subsection();
 
     prm.enter_subsection("Fluidity boundary conditions");
     {
       prm.add_parameter("Dirichlet", fluidity_bc.dirichlet,
-                        "'name: g_wall, ...': prescribed fluidity [1/s] on these boundaries (25).",
+                        "'name: g_wall, ...': prescribed fluidity [1/s], >= 0, on these boundaries "
+                        "(25); a boundary is named at most once in this list and the Neumann one.",
                         Anything());
       prm.add_parameter(
           "Neumann", fluidity_bc.neumann,
@@ -131,12 +135,15 @@ namespace granflow::ngf
           Selection("nonlocal|local"));
       prm.add_parameter(
           "Tolerance", s.tolerance,
-          "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, > 0.",
-          Double(0.));
+          "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, in (0, "
+          "1e-3].",
+          Double(0., 1e-3));
       prm.add_parameter("Max Newton iterations", s.max_iterations,
-                        "Newton iterations before the increment is cut.", Integer(1, 100));
+                        "Newton iterations before the increment is cut, in [1, 100].",
+                        Integer(1, 100));
       prm.add_parameter("First increment", s.first_increment,
-                        "Wall displacement of the first shear increment, in grain diameters, > 0.",
+                        "Wall displacement of the first shear increment, in grain diameters, > 0 "
+                        "and at most Max increment.",
                         Double(0.));
       prm.add_parameter("Max increment", s.max_increment,
                         "Largest wall displacement per increment, in grain diameters, > 0.",
@@ -149,7 +156,8 @@ namespace granflow::ngf
           Bool());
       prm.add_parameter(
           "Increment growth", s.growth,
-          "Factor by which the increment grows after a solve in at most 4 iterations.", Double(1.));
+          "Factor by which the increment grows after a solve in at most 4 iterations, >= 1.",
+          Double(1.));
     }
     prm.leave_subsection();
 
@@ -157,8 +165,10 @@ namespace granflow::ngf
     {
       prm.add_parameter(
           "Reference", output.reference,
-          "none, or finite difference: the 1D reduction (90) solved on a 0.01 d grid at the "
-          "same wall speed, written beside the profile and compared in summary.json.",
+          "none, or finite difference: the 1D reduction (90) (shear column) or (92) (annulus "
+          "row) solved on a 0.01 d grid at the same wall speed, written beside the profile and "
+          "compared in summary.json; for the nonlocal model with zeta = 0 on every boundary, as "
+          "the reductions have.",
           Selection("none|finite difference"));
       prm.add_parameter("Write vtu", output.write_vtu, "Write solution-0000.vtu and solution.pvd.",
                         Bool());
@@ -189,6 +199,24 @@ namespace granflow::ngf
     require_positive(geometry.gap, f, "Geometry/Gap");
     require_positive(geometry.height, f, "Geometry/Height");
     require_positive(geometry.element_size, f, "Geometry/Element size");
+    {
+      // Elements along and across the shear gradient, as scales() rounds them (before rounding, so
+      // that an absurd ratio cannot overflow the count).
+      const double along = (geometry.shape == "shear column" ? geometry.depth : geometry.gap) /
+                           geometry.element_size,
+                   across = geometry.shape == "annulus" || geometry.shape == "annulus slice"
+                                ? geometry.height / geometry.element_size
+                                : 1.;
+      constexpr double max_elements = 1e6;
+      if (!(along * across <= max_elements))
+        {
+          std::ostringstream s;
+          s << "= " << geometry.element_size << " gives about " << std::setprecision(3)
+            << along * across << " elements on the " << geometry.shape
+            << ": expected at most 1e6 (a larger element size, or a smaller domain)";
+          throw InputError(f, "Geometry/Element size", s.str());
+        }
+    }
     const double shortest = geometry.shape == "shear column" ? geometry.depth
                             : geometry.shape == "annulus row"
                                 ? geometry.gap
@@ -207,6 +235,13 @@ namespace granflow::ngf
     require_positive(solver.tolerance, f, "Solver/Tolerance");
     require_positive(solver.first_increment, f, "Solver/First increment");
     require_positive(solver.max_increment, f, "Solver/Max increment");
+    if (solver.first_increment > solver.max_increment)
+      {
+        std::ostringstream s;
+        s << "= " << solver.first_increment
+          << ": expected at most Solver/Max increment = " << solver.max_increment;
+        throw InputError(f, "Solver/First increment", s.str());
+      }
     if (output.reference == "finite difference" &&
         (geometry.shape == "annulus" || geometry.shape == "annulus slice"))
       throw InputError(
@@ -217,20 +252,48 @@ namespace granflow::ngf
       throw InputError(
           f, "Solver/Fluidity",
           "= local has no fluidity field: leave the Fluidity boundary conditions empty");
-    const auto names = boundary_names();
+    // Fluidity boundaries (25): each names a boundary of the geometry, at most once in the two
+    // lists together, with a finite value (a fluidity g_wall >= 0 for Dirichlet).
+    const auto               names     = boundary_names();
+    const auto               dirichlet = fluidity_dirichlet(), neumann = fluidity_neumann();
+    std::vector<std::string> named;
     for (const auto &[entry, list] :
-         {std::pair{"Fluidity boundary conditions/Dirichlet", fluidity_dirichlet()},
-          std::pair{"Fluidity boundary conditions/Neumann", fluidity_neumann()}})
-      for (const auto &item : list)
-        if (std::find(names.begin(), names.end(), item.first) == names.end())
-          {
-            std::string expected;
-            for (const auto &n : names)
-              expected += (expected.empty() ? "" : " or ") + n;
+         {std::pair{"Fluidity boundary conditions/Dirichlet", &dirichlet},
+          std::pair{"Fluidity boundary conditions/Neumann", &neumann}})
+      for (const auto &[name, value] : *list)
+        {
+          if (std::find(names.begin(), names.end(), name) == names.end())
+            {
+              std::string expected;
+              for (const auto &n : names)
+                expected += (expected.empty() ? "" : " or ") + n;
+              throw InputError(f, entry,
+                               "names boundary '" + name + "', which the " + geometry.shape +
+                                   " lacks: expected " + expected);
+            }
+          if (std::find(named.begin(), named.end(), name) != named.end())
             throw InputError(f, entry,
-                             "names boundary '" + item.first + "', which the " + geometry.shape +
-                                 " lacks: expected " + expected);
-          }
+                             "names boundary '" + name +
+                                 "' a second time: expected each boundary at most once in the "
+                                 "Dirichlet and Neumann lists together");
+          named.push_back(name);
+          const bool is_dirichlet = list == &dirichlet;
+          if (!std::isfinite(value) || (is_dirichlet && value < 0.))
+            {
+              std::ostringstream s;
+              s << "value " << value << " on '" << name << "': expected a finite number"
+                << (is_dirichlet ? " >= 0 (a fluidity)" : "");
+              throw InputError(f, entry, s.str());
+            }
+        }
+    if (output.reference == "finite difference" &&
+        (solver.fluidity == "local" || !dirichlet.empty() ||
+         std::any_of(neumann.begin(), neumann.end(),
+                     [](const auto &item) { return item.second != 0.; })))
+      throw InputError(f, "Output/Reference",
+                       "= finite difference solves the nonlocal reduction with zeta = 0 at both "
+                       "walls, not this case (local model or fluidity boundary conditions): "
+                       "expected none");
   }
 
   std::vector<std::string>
