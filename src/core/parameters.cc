@@ -4,6 +4,7 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -118,20 +119,12 @@ namespace granflow
   }
 
   void
-  validate_naming_overrides(const std::function<void()> &validate,
-                            const std::vector<Override> &overrides)
+  rethrow_naming_overrides(const InputError &e, const std::vector<Override> &overrides)
   {
-    try
-      {
-        validate();
-      }
-    catch (const InputError &e)
-      {
-        for (auto o = overrides.rbegin(); o != overrides.rend(); ++o)
-          if (!e.entry().empty() && o->path == e.entry())
-            throw InputError("--set " + o->path + "=" + o->value, e.entry(), e.detail());
-        throw;
-      }
+    for (auto o = overrides.rbegin(); o != overrides.rend(); ++o)
+      if (!e.entry().empty() && o->path == e.entry())
+        throw InputError("--set " + o->path + "=" + o->value, e.entry(), e.detail());
+    throw e;
   }
 
   void
@@ -170,13 +163,15 @@ namespace granflow
               throw std::invalid_argument("");
             std::size_t used  = 0;
             const auto  value = std::stod(item.substr(colon + 1), &used);
-            if (trim(item.substr(colon + 1 + used)) != "")
+            if (trim(item.substr(colon + 1 + used)) != "" || !std::isfinite(value))
               throw std::invalid_argument("");
             result.emplace_back(trim(item.substr(0, colon)), value);
           }
         catch (const std::exception &)
           {
-            throw InputError(file, entry, "cannot read '" + item + "': expected 'boundary: number'");
+            throw InputError(file, entry,
+                             "cannot read '" + item +
+                                 "': expected 'boundary: number' (a finite number)");
           }
       }
     return result;

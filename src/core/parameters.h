@@ -3,9 +3,10 @@
 // the file, the entry and the expected range. Only core/ and apps/ read files (DESIGN.md).
 #pragma once
 
+#include "core/errors.h"
+
 #include <deal.II/base/parameter_handler.h>
 
-#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -33,11 +34,10 @@ namespace granflow
   parse_case_file(dealii::ParameterHandler &prm, const std::string &case_file,
                   const std::vector<Override> &overrides);
 
-  /// Runs `validate`; an InputError about an entry that an override set is re-thrown naming that
+  /// Re-throws `e`; if it is about an entry that an override set, it names that
   /// `--set Section/key=value` instead of the case file, which does not hold the value.
-  void
-  validate_naming_overrides(const std::function<void()> &validate,
-                            const std::vector<Override> &overrides);
+  [[noreturn]] void
+  rethrow_naming_overrides(const InputError &e, const std::vector<Override> &overrides);
 
   /// Declares the entries of a model's Parameters in `prm` (declare(prm)), parses `case_file` with
   /// the overrides and validates (validate()); InputError on bad input.
@@ -49,7 +49,14 @@ namespace granflow
     parameters.declare(prm);
     parse_case_file(prm, case_file, overrides);
     parameters.case_file = case_file;
-    validate_naming_overrides([&] { parameters.validate(); }, overrides);
+    try
+      {
+        parameters.validate();
+      }
+    catch (const InputError &e)
+      {
+        rethrow_naming_overrides(e, overrides);
+      }
   }
 
   /// read_case() into a fresh ParameterHandler.

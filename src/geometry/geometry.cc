@@ -391,7 +391,7 @@ namespace granflow::geometry
   } // namespace
 
   dealii::types::boundary_id
-  Mesh::id(const std::string &name, const std::string &context_file) const
+  Mesh::id(const std::string &name, const std::string &context_file, const std::string &entry) const
   {
     const auto it = boundary_ids.find(name);
     if (it != boundary_ids.end())
@@ -399,8 +399,11 @@ namespace granflow::geometry
     std::string names;
     for (const auto &[known, id] : boundary_ids)
       names += (names.empty() ? "'" : ", '") + known + "'";
-    throw InputError(context_file + ": the mesh has no boundary named '" + name +
-                     "': its boundaries are " + (names.empty() ? "(none)" : names));
+    const std::string what = "the mesh has no boundary named '" + name + "': its boundaries are " +
+                             (names.empty() ? "(none)" : names);
+    if (entry.empty())
+      throw InputError(context_file + ": " + what);
+    throw InputError(context_file, entry, what);
   }
 
   void
@@ -472,12 +475,8 @@ namespace granflow::geometry
     require_positive(W, entry::silo_width, source);
     require_positive(H, entry::silo_height, source);
     require_positive(D, entry::aperture, source);
-    require_below(D / 2,
-                  W,
-                  entry::aperture,
-                  "2 W = " + str(2 * W),
-                  "so that the aperture half-width D/2 is less than the silo width W",
-                  source);
+    require_below(D, 2 * W, entry::aperture, "2 W = " + str(2 * W),
+                  "so that the aperture half-width D/2 is less than the silo width W", source);
     if (!(extension >= 0) || !std::isfinite(extension))
       throw InputError(source,
                        entry::outlet_extension,

@@ -41,9 +41,10 @@ namespace granflow::geometry
     std::map<std::string, dealii::types::boundary_id> boundary_ids;
 
     /// The id of boundary `name`. Throws InputError naming `context_file` (the case that needs the
-    /// boundary), `name` and the names this mesh has.
+    /// boundary), the `entry` that names it (if given), `name` and the names this mesh has.
     dealii::types::boundary_id
-    id(const std::string &name, const std::string &context_file) const;
+    id(const std::string &name, const std::string &context_file,
+       const std::string &entry = "") const;
   };
 
   // Each generator validates its lengths and the target mesh size h (errors name the entries

@@ -51,6 +51,11 @@ namespace granflow
           out.commit(); // what was written so far is kept
           throw;
         }
+      catch (const InputError &e)
+        {
+          // found while running (a mesh lacking a boundary, a profile line off the mesh, ...)
+          rethrow_naming_overrides(e, request.overrides);
+        }
     }
   } // namespace
 

@@ -31,7 +31,7 @@ namespace granflow::postprocess
         const Point<2> p = a + t * (b - a);
         const auto found = GridTools::find_active_cell_around_point(cache, p);
         if (found.first == dof_handler.get_triangulation().end())
-          throw std::runtime_error("profile point outside the mesh");
+          continue; // outside the domain (a hole, or past its boundary): no sample
         const typename DoFHandler<2>::active_cell_iterator cell(&dof_handler.get_triangulation(),
                                                                 found.first->level(),
                                                                 found.first->index(),

@@ -19,7 +19,8 @@ namespace granflow::postprocess
   };
 
   /// Samples a finite-element field at n equidistant points from a to b (end points nudged inside
-  /// by 1e-9 of the length so they are found on the closed domain).
+  /// by 1e-9 of the length so they are found on the closed domain). Points outside the mesh (a
+  /// line across a hole, or past the boundary) are left out.
   LineSamples
   sample_line(const dealii::Mapping<2>       &mapping,
               const dealii::DoFHandler<2>    &dof_handler,

@@ -34,6 +34,7 @@ namespace granflow::solvers
     if (A.n_rows != A.n_cols)
       throw std::invalid_argument("CholmodSolver: matrix is not square");
     cholmod_common &c = impl->common;
+    c.print           = 0; // a failure is reported by the exception below, not on stderr
     // CSR of a symmetric matrix is its CSC; stype = 1 reads the upper triangle only.
     cholmod_sparse *M = cholmod_allocate_sparse(n, n, A.value.size(), 1, 1, 1, CHOLMOD_REAL, &c);
     std::memcpy(M->p, A.row_start.data(), sizeof(int) * (n + 1));
@@ -44,8 +45,8 @@ namespace granflow::solvers
     const bool ok = c.status == CHOLMOD_OK && impl->factor->minor == n;
     cholmod_free_sparse(&M, &c);
     if (!ok)
-      throw std::runtime_error("CholmodSolver: the velocity operator A is not positive definite "
-                               "(is every rigid motion removed by the Dirichlet boundaries?)");
+      throw NotPositiveDefinite("CholmodSolver: the velocity operator A is not positive definite "
+                                "(is every rigid motion removed by the Dirichlet boundaries?)");
     impl->rhs = cholmod_zeros(n, 1, CHOLMOD_REAL, &c);
   }
 

@@ -6,14 +6,24 @@
 #include "solvers/sparse.h"
 
 #include <memory>
+#include <stdexcept>
 #include <vector>
 
 namespace granflow::solvers
 {
+  /// A is not positive definite: for the velocity operator, some rigid motion is not removed by
+  /// the Dirichlet boundaries (the model turns this into bad input).
+  class NotPositiveDefinite : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
   class CholmodSolver
   {
   public:
-    /// Analyses and factorises A (full symmetric storage; only the upper triangle is read).
+    /// Analyses and factorises A (full symmetric storage; only the upper triangle is read); throws
+    /// NotPositiveDefinite if A is not.
     explicit CholmodSolver(const CsrMatrix &A);
     ~CholmodSolver();
     CholmodSolver(const CholmodSolver &) = delete;

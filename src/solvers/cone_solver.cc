@@ -227,7 +227,10 @@ namespace granflow::solvers
             const auto f = (kind == ResidualKind::fischer_burmeister && data.Bi[i] == 0.) ?
                              rheology::f_FB(l, g, data.mu[i]) :
                              rheology::f_AC(l, g, data.mu[i], data.Bi[i]);
-            r = std::max(r, rheology::norm(f));
+            const double fi = rheology::norm(f);
+            if (std::isnan(fi))
+              return fi; // std::max would drop it, and a NaN iterate would pass as converged
+            r = std::max(r, fi);
           }
         return r;
       }

@@ -70,6 +70,17 @@ bad mesh-size-negative "Mesh size" --set "Geometry/Mesh size=-0.1"
 bad missing-mesh-file "no_such_mesh.msh" --set "Geometry/Shape=file" --set "Geometry/Mesh file=no_such_mesh.msh"
 bad missing-boundary "lid" --set "Boundary conditions/No-slip=bottom, lid"
 bad interior-point-needs-mu "Solver/Method" --set "Solver/Method=interior point"
+bad Re-too-large "Rheology/Re" --set "Rheology/Re=1e200"
+bad refinements-too-many "Geometry/Global refinements" --set "Geometry/Global refinements=7"
+bad gravity-not-finite "Gravity direction" --set "Gravity direction=nan, 1"
+bad external-pressure-not-finite "finite number" --set "Boundary conditions/External pressure=inlet: inf"
+bad profile-off-the-mesh "Output/Profile start" --set "Output/Profile start=100, 100" --set "Output/Profile end=101, 100"
+bad rigid-motion-free "Boundary conditions/No-slip" --set "Boundary conditions/No-slip="
+bad viscosity-tolerance-zero "Solver/Viscosity tolerance" --set "Solver/Viscosity tolerance=0"
+bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip'" --set "Boundary conditions/No-slip=bottom, lid"
+bad blames-the-set "--set Geometry/Mesh size=0" --set "Geometry/Mesh size=0"
+check aperture-value-as-given 2 "20 is out of range" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
+  --output keep --quiet --set "Geometry/Aperture=20"
 check missing-case 2 "nosuch.prm" "$GRANFLOW" run nosuch.prm --output keep
 check empty-output 2 "--output" "$GRANFLOW" run "$case_file" --output ""
 echo "a file" >afile

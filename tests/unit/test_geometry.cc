@@ -6,6 +6,7 @@
 #include "geometry/geometry.h"
 
 #include "core/errors.h"
+#include "postprocess/profiles.h"
 
 #include <deal.II/base/function.h>
 #include <deal.II/base/quadrature_lib.h>
@@ -13,6 +14,7 @@
 #include <deal.II/dofs/dof_handler.h>
 
 #include <deal.II/fe/fe_simplex_p.h>
+#include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
 
@@ -544,6 +546,37 @@ namespace
                       granflow::geometry::read_mesh_file(mesh, path("open.msh"), "case.prm");
                     }),
                     {"open.msh", "1 boundary edges", "(0.5, 1)", "no named physical curve"});
+  }
+
+  // A profile line across the cylinder of Fig. 12: the points in the hole are left out, the others
+  // carry the field's values (a P2 field that interpolates x + 2 y exactly).
+  TEST_F(Geometry, ProfileAcrossTheCylinderLeavesOutThePointsInTheHole)
+  {
+    const double length = 4, width = 1, D = 0.25, h = 0.1;
+    Mesh         mesh;
+    granflow::geometry::make_cylinder_channel(mesh, length, width, D, h, path("cyl.msh"),
+                                              "case.prm");
+    const MappingFE<2> mapping(FE_SimplexP<2>(1));
+    const FESystem<2>  fe(FE_SimplexP<2>(2), 2);
+    DoFHandler<2>      dof(mesh.triangulation);
+    dof.distribute_dofs(fe);
+    Vector<double> u(dof.n_dofs());
+    VectorTools::interpolate(
+        mapping, dof,
+        FunctionFromFunctionObjects<2>({[](const Point<2> &p) { return p[0] + 2 * p[1]; },
+                                        [](const Point<2> &) { return 0.; }}),
+        u);
+    const unsigned int n = 101;
+    const auto         samples =
+        granflow::postprocess::sample_line(mapping, dof, u, Point<2>(0, -0.5), Point<2>(0, 0.5), n);
+    // Points 0.01 apart; the inscribed polygon's hole is at most D/2 wide on each side of y = 0.
+    EXPECT_GE(samples.points.size(), n - 26);
+    EXPECT_LE(samples.points.size(), n - 20);
+    for (std::size_t k = 0; k < samples.points.size(); ++k)
+      {
+        EXPECT_GE(std::abs(samples.points[k][1]), D / 2 * std::cos(pi / 8) - 1e-12);
+        EXPECT_NEAR(samples.values[k][0], 2 * samples.points[k][1], 1e-12);
+      }
   }
 
   TEST_F(Geometry, UnknownBoundaryNameListsTheKnownOnes)

@@ -7,6 +7,7 @@
 #include "postprocess/analytic.h"
 #include "postprocess/profiles.h"
 #include "rheology/drucker_prager.h"
+#include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
 
 #include <deal.II/base/quadrature_lib.h>
@@ -23,6 +24,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -330,7 +332,20 @@ namespace granflow::dp
       else
         geometry::read_mesh_file(mesh, g.mesh_file, f);
       if (g.refinements > 0)
-        mesh.triangulation.refine_global(g.refinements);
+        {
+          // Each refinement quadruples the triangles; the generators' bound of 1e7 holds for the
+          // refined mesh too.
+          const double triangles =
+              mesh.triangulation.n_active_cells() * std::pow(4., g.refinements);
+          if (triangles > 1e7)
+            {
+              std::ostringstream s;
+              s << "= " << g.refinements << " gives " << triangles << " triangles (from "
+                << mesh.triangulation.n_active_cells() << "): expected at most 1e7";
+              throw InputError(prm.case_file, "Geometry/Global refinements", s.str());
+            }
+          mesh.triangulation.refine_global(g.refinements);
+        }
     }
 
     void
@@ -342,25 +357,36 @@ namespace granflow::dp
       dof_s.distribute_dofs(fe_s);
 
       const auto &bc  = prm.boundaries;
-      const auto  add = [&](const std::string &list, const ComponentMask &mask) {
+      const auto  add = [&](const std::string &list, const char *entry, const ComponentMask &mask) {
         for (const std::string &name : split_list(list))
           {
             std::map<types::global_dof_index, double> values;
-            VectorTools::interpolate_boundary_values(mapping, dof_u, mesh.id(name, prm.case_file),
-                                                     Functions::ZeroFunction<dim>(dim), values, mask);
+            VectorTools::interpolate_boundary_values(
+                 mapping, dof_u, mesh.id(name, prm.case_file, entry),
+                 Functions::ZeroFunction<dim>(dim), values, mask);
             dirichlet.insert(values.begin(), values.end());
           }
       };
-      add(bc.no_slip, ComponentMask());
-      add(bc.zero_x_velocity, ComponentMask(std::vector<bool>{true, false}));
-      add(bc.zero_y_velocity, ComponentMask(std::vector<bool>{false, true}));
+      add(bc.no_slip, "Boundary conditions/No-slip", ComponentMask());
+      add(bc.zero_x_velocity, "Boundary conditions/Zero x-velocity",
+          ComponentMask(std::vector<bool>{true, false}));
+      add(bc.zero_y_velocity, "Boundary conditions/Zero y-velocity",
+          ComponentMask(std::vector<bool>{false, true}));
+      // Without a velocity condition, A is singular (rigid motions are free): bad input, said here
+      // rather than by the factorisation.
+      if (dirichlet.empty())
+        throw InputError(prm.case_file, "Boundary conditions/No-slip",
+                         "is empty, as are Zero x-velocity and Zero y-velocity: expected at least "
+                         "one boundary with a velocity condition (else the velocity is fixed only "
+                         "up to a rigid motion)");
       // Every named boundary of the load must exist too (checked before anything is solved).
       for (const auto &[name, p] :
            parse_named_values(bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
-        mesh.id(name, prm.case_file);
-      for (const std::string &name : {prm.output.drag_boundary, prm.output.inflow_boundary})
-        if (!name.empty())
-          mesh.id(name, prm.case_file);
+        mesh.id(name, prm.case_file, "Boundary conditions/External pressure");
+      if (!prm.output.drag_boundary.empty())
+        mesh.id(prm.output.drag_boundary, prm.case_file, "Output/Drag boundary");
+      if (!prm.output.inflow_boundary.empty())
+        mesh.id(prm.output.inflow_boundary, prm.case_file, "Output/Inflow boundary");
 
       free_index.assign(dof_u.n_dofs(), -1);
       for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
@@ -368,6 +394,18 @@ namespace granflow::dp
           free_index[i] = static_cast<int>(n_free++);
       n_points = p1d ? mesh.triangulation.n_active_cells() * 3 : dof_s.n_dofs();
       u.reinit(dof_u.n_dofs());
+      // The profile line must cross the domain: checked now, not after the solve.
+      if (postprocess::sample_line(
+              mapping, dof_u, u,
+              parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start"),
+              parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end"),
+              prm.output.profile_points)
+              .points.size() < 2)
+        throw InputError(prm.case_file, "Output/Profile start",
+                         "'" + prm.output.profile_start + "' to Output/Profile end '" +
+                             prm.output.profile_end + "': fewer than 2 of the line's " +
+                             std::to_string(prm.output.profile_points) +
+                             " points lie in the mesh: expected a line across the domain");
 
       std::ostringstream s;
       s << "Mesh: " << mesh.triangulation.n_active_cells() << " triangles, "
@@ -399,8 +437,33 @@ namespace granflow::dp
         log.progress(s.str());
       };
       if (!prm.solver.dump_cone_problem.empty())
-        solvers::save_cone_problem(data, out.file(prm.solver.dump_cone_problem));
-      const auto stats = solvers::solve_cone_problem(data, options, solution);
+        try
+          {
+            // relative to the output directory, subdirectories included
+            const std::filesystem::path dump = out.file(prm.solver.dump_cone_problem);
+            std::filesystem::create_directories(dump.parent_path());
+            solvers::save_cone_problem(data, dump.string());
+          }
+        catch (const std::exception &e)
+          {
+            throw InputError(
+                prm.case_file, "Solver/Dump cone problem",
+                "= " + prm.solver.dump_cone_problem +
+                    ": cannot be written (expected a file name, relative to the output "
+                    "directory, or a writable path)");
+          }
+      solvers::ConeSolverStats stats;
+      try
+        {
+          stats = solvers::solve_cone_problem(data, options, solution);
+        }
+      catch (const solvers::NotPositiveDefinite &)
+        {
+          throw InputError(prm.case_file, "Boundary conditions/No-slip",
+                           "with Zero x-velocity and Zero y-velocity leaves a rigid motion of the "
+                           "velocity free (A is singular): expected velocity conditions that fix "
+                           "both translations and the rotation");
+        }
       log.flush_table();
 
       for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
@@ -438,6 +501,8 @@ namespace granflow::dp
       const std::size_t n_qp = mesh.triangulation.n_active_cells() * quadrature.size();
       std::vector<double> eta(n_qp, 1.);
       const bool          bagnold = prm.rheology.viscosity == "bagnold";
+      const bool          interior_point =
+          solvers::parse_cone_method(prm.solver.method) == solvers::ConeMethod::interior_point;
       unsigned int        viscosity_iterations = 0;
       double              change               = 0.;
       solvers::ConeSolverStats stats;
@@ -455,7 +520,8 @@ namespace granflow::dp
           ++viscosity_iterations;
           std::ostringstream s;
           s << "  solve " << viscosity_iterations << ": " << stats.outer_iterations
-            << " fixed-point iterations, residual " << stats.residual << ", " << stats.time_solve << " s";
+            << (interior_point ? " interior-point" : " fixed-point") << " iterations, residual "
+            << stats.residual << ", " << stats.time_solve << " s";
           if (!stats.converged || !bagnold)
             {
               log.print(s.str() + (stats.converged ? "\n" : " (not converged)\n"));
@@ -478,18 +544,20 @@ namespace granflow::dp
             eta[k] = std::sqrt(eta[k] * eta_new[k]);
         }
 
-      solver_json = {{"method", prm.solver.method},
-                     {"inner_solver", prm.solver.inner_solver},
-                     {"residual_kind", prm.solver.residual},
-                     {"tolerance", prm.solver.tolerance},
-                     {"converged", stats.converged},
-                     {"residual", stats.residual},
-                     {"fixed_point_iterations", outer_total},
-                     {"inner_iterations", inner_total},
-                     {"viscosity_iterations", viscosity_iterations},
-                     {"viscosity_relative_change", change},
-                     {"time_factorize_s", factorize_time},
-                     {"time_solve_s", solve_time}};
+      solver_json = {
+          {"method", prm.solver.method},         {"residual_kind", prm.solver.residual},
+          {"tolerance", prm.solver.tolerance},   {"converged", stats.converged},
+          {"residual", stats.residual},          {"viscosity_iterations", viscosity_iterations},
+          {"viscosity_relative_change", change}, {"time_factorize_s", factorize_time},
+          {"time_solve_s", solve_time}};
+      if (interior_point)
+        solver_json["interior_point_iterations"] = outer_total;
+      else
+        {
+          solver_json["inner_solver"]           = prm.solver.inner_solver;
+          solver_json["fixed_point_iterations"] = outer_total;
+          solver_json["inner_iterations"]       = inner_total;
+        }
       postprocess(results);
       if (prm.output.write_vtu)
         write_vtu();
@@ -500,15 +568,12 @@ namespace granflow::dp
       if (!stats.converged)
         {
           std::ostringstream s;
-          s << "the "
-            << (solvers::parse_cone_method(prm.solver.method) == solvers::ConeMethod::interior_point
-                    ? "interior-point method"
-                    : "Cadoux fixed point")
+          s << "the " << (interior_point ? "interior-point method" : "Cadoux fixed point")
             << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
             << stats.residual << " after " << stats.outer_iterations
             << " iterations; raise Solver/Max outer iterations, Max inner iterations or Max "
                "seconds). "
-            << "The last iterate was written to " << out.target();
+            << "The iterate of least residual was written to " << out.target();
           throw ConvergenceError(s.str());
         }
       if (bagnold && change > prm.solver.viscosity_tolerance)

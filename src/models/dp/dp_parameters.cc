@@ -4,6 +4,7 @@
 #include "core/parameters.h"
 #include "solvers/cone_problem.h"
 
+#include <cmath>
 #include <limits>
 
 namespace granflow::dp
@@ -20,8 +21,11 @@ namespace granflow::dp
     prm.add_parameter("Model", model, "Model of this case file: dp (Daviet 2016).",
                       Selection("dp"));
     prm.add_parameter("Name", name, "Name of the case, used in summary.json.", Anything());
-    prm.add_parameter("Gravity direction", gravity_direction,
-                      "Unit vector e_g of the dimensionless body force (23), 'x, y'.", Anything());
+    prm.add_parameter(
+        "Gravity direction", gravity_direction,
+        "Direction e_g of the dimensionless body force (23), 'x, y' (finite, not both "
+        "0; normalised).",
+        Anything());
 
     prm.enter_subsection("Geometry");
     {
@@ -35,8 +39,10 @@ namespace granflow::dp
                         "Gmsh .msh file with named physical curves (Shape = file).", Anything());
       prm.add_parameter("Mesh size", g.mesh_size, "Target element size h (units of L), > 0.",
                         Double(0.));
-      prm.add_parameter("Global refinements", g.refinements,
-                        "Uniform refinements of the generated mesh.", Integer(0, 10));
+      prm.add_parameter(
+          "Global refinements", g.refinements,
+          "Uniform refinements of the generated mesh, in [0, 10] (at most 1e7 triangles).",
+          Integer(0, 10));
       prm.add_parameter("Channel length", g.channel_length, "Channel length H (Fig. 3, Fig. 12), > 0.",
                         Double(0.));
       prm.add_parameter("Channel width", g.channel_width, "Channel width (2L in Fig. 3, L in Fig. 12), > 0.",
@@ -57,7 +63,10 @@ namespace granflow::dp
       auto &r = rheology;
       prm.add_parameter("mu", r.mu, "Friction coefficient mu of DP(mu, Bi), >= 0.", Double(0.));
       prm.add_parameter("Bi", r.Bi, "Bingham number Bi = sigma_0 / (rho g L), >= 0.", Double(0.));
-      prm.add_parameter("Re", r.Re, "Reynolds number Re = rho U L / eta, > 0.", Double(0.));
+      prm.add_parameter("Re", r.Re,
+                        "Reynolds number Re = rho U L / eta, in (0, 1e6] (the viscous term 2/Re "
+                        "D(u) keeps the velocity operator A definite).",
+                        Double(0., 1e6));
       prm.add_parameter("b", r.b, "Bulk-viscosity parameter b of D^b(u), >= 0.", Double(0.));
       prm.add_parameter("Viscosity", r.viscosity,
                         "constant, or bagnold: eta = |D(u)| by fixed point (Daviet 6.1.3).",
@@ -75,8 +84,10 @@ namespace granflow::dp
                         "Boundaries with u_x = 0 (natural condition on u_y).", Anything());
       prm.add_parameter("Zero y-velocity", b.zero_y_velocity,
                         "Boundaries with u_y = 0 (natural condition on u_x).", Anything());
-      prm.add_parameter("External pressure", b.external_pressure,
-                        "'name: p_ext, ...': traction -p_ext n on these boundaries (21).", Anything());
+      prm.add_parameter(
+          "External pressure", b.external_pressure,
+          "'name: p_ext, ...': traction -p_ext n on these boundaries (21), p_ext finite.",
+          Anything());
       prm.add_parameter("Analytic traction", b.analytic_traction,
                         "Boundaries loaded by the traction of the analytic reference (bagnold).",
                         Anything());
@@ -108,20 +119,23 @@ namespace granflow::dp
       prm.add_parameter("Tolerance", s.tolerance, "Infinity norm of the residual to reach, > 0.",
                         Double(0.));
       prm.add_parameter("Max outer iterations", s.max_outer_iterations,
-                        "Cadoux fixed-point iterations before giving up.", Integer(1));
+                        "Cadoux fixed-point iterations (interior point: its iterations) before "
+                        "giving up, >= 1.",
+                        Integer(1));
       prm.add_parameter("Max inner iterations", s.max_inner_iterations,
-                        "Inner solver iterations per fixed-point iteration.", Integer(1));
+                        "Inner solver iterations per fixed-point iteration, >= 1.", Integer(1));
       prm.add_parameter("Max seconds", s.max_seconds,
                         "Wall-time limit of each cone solve in seconds, >= 0 (0: none), checked after "
                         "each outer iteration. A solve stopped by it keeps its iterate of least "
                         "residual and the run exits with status 3.",
                         Double(0.));
-      prm.add_parameter("Anderson depth", s.anderson_depth,
-                        "Anderson acceleration of the Cadoux fixed point on s (0: plain Algorithm 1; "
-                        "the plain iteration can cycle for mu >= 0.5).",
-                        Integer(0, 20));
+      prm.add_parameter(
+          "Anderson depth", s.anderson_depth,
+          "Anderson acceleration of the Cadoux fixed point on s (0: plain Algorithm 1; "
+          "the plain iteration can cycle for mu >= 0.5), in [0, 20].",
+          Integer(0, 20));
       prm.add_parameter("Viscosity iterations", s.viscosity_iterations,
-                        "Fixed-point iterations on eta(x) (bagnold).", Integer(1));
+                        "Fixed-point iterations on eta(x) (bagnold), >= 1.", Integer(1));
       prm.add_parameter("Viscosity tolerance", s.viscosity_tolerance,
                         "Relative change of u that ends the eta fixed point, > 0.", Double(0.));
       prm.add_parameter("Dump cone problem", s.dump_cone_problem,
@@ -140,7 +154,10 @@ namespace granflow::dp
                         Selection("none|bingham poiseuille|bagnold"));
       prm.add_parameter("Profile start", o.profile_start, "Start 'x, y' of the sampled line.", Anything());
       prm.add_parameter("Profile end", o.profile_end, "End 'x, y' of the sampled line.", Anything());
-      prm.add_parameter("Profile points", o.profile_points, "Samples along the line.", Integer(2, 100000));
+      prm.add_parameter(
+          "Profile points", o.profile_points,
+          "Samples along the line, in [2, 100000]; those outside the mesh are left out.",
+          Integer(2, 100000));
       prm.add_parameter("Drag boundary", o.drag_boundary,
                         "Boundary on which the drag F_D = int lambda n . e_x is computed (6.3.1).",
                         Anything());
@@ -158,6 +175,7 @@ namespace granflow::dp
     require_positive(geometry.mesh_size, f, "Geometry/Mesh size");
     require_positive(rheology.Re, f, "Rheology/Re");
     require_positive(solver.tolerance, f, "Solver/Tolerance");
+    require_positive(solver.viscosity_tolerance, f, "Solver/Viscosity tolerance");
     if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::interior_point &&
         !(rheology.mu > 0. && rheology.Bi == 0.))
       throw InputError(f, "Solver/Method",
@@ -188,11 +206,15 @@ namespace granflow::dp
       {
         if (items.size() != 2)
           throw std::invalid_argument("");
-        return dealii::Point<2>(std::stod(items[0]), std::stod(items[1]));
+        const dealii::Point<2> p(std::stod(items[0]), std::stod(items[1]));
+        if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
+          throw std::invalid_argument("");
+        return p;
       }
     catch (const std::exception &)
       {
-        throw InputError(file, entry, "'" + text + "' is not a point: expected 'x, y'");
+        throw InputError(file, entry,
+                         "'" + text + "' is not a point: expected 'x, y' (finite numbers)");
       }
   }
 
