@@ -21,6 +21,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
+#include <deal.II/numerics/data_postprocessor.h>
 #include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
@@ -760,6 +761,23 @@ namespace granflow::ngf
                 (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
                 ", h/d = " + std::to_string(scale.h / d) + ", " +
                 std::to_string(dof_handler.n_dofs()) + " dofs\n");
+      {
+        // The paper's cases strain the grains elastically by about 1e-4 (p / B, tau / S at
+        // S = 1 MPa); loads of the order of the moduli compact the bed by tens of per cent, where
+        // the quadratic energy (12) and phi = const (27) stop being a model of a granular bed.
+        const double p_max  = column ? scale.P_wall + scale.body_force * scale.depth
+                                     : std::max(scale.P_wall, scale.body_force * scale.H);
+        const double strain = p_max / std::min(prm.material.elastic.S, prm.material.elastic.B);
+        if (strain > 0.01)
+          {
+            std::ostringstream w;
+            w << std::setprecision(3) << "ngf: warning: the largest pressure, about " << p_max
+              << " Pa, is " << strain
+              << " times the smaller elastic modulus: elastic strains that large are outside the "
+                 "model's intended range (Henann 6: about 1e-4)\n";
+            log.print(w.str());
+          }
+      }
       log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
                   << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u"
                   << std::setw(12) << "R_g" << '\n';
@@ -1187,15 +1205,41 @@ namespace granflow::ngf
         }
       data_out.add_data_vector(U, names, DataOut<dim>::type_dof_data, kinds);
       data_out.add_data_vector(v, vnames, DataOut<dim>::type_dof_data, kinds);
-      // the wall-parallel velocity over v_wall (Fig. 6: v / (R_i Omega))
-      Vector<double> v_scaled(v.size());
-      for (types::global_dof_index i = 0; i < v.size(); ++i)
-        v_scaled[i] = v[i] / scale.v_wall;
-      std::vector<std::string> snames = {"v_over_v_wall_0", "v_over_v_wall_1", "v_over_v_wall",
-                                         "g_rate_scaled"};
-      if (dim == 3)
-        snames = {"v_over_v_wall", "v_over_v_wall_y", "v_over_v_wall_z", "g_rate_scaled"};
-      data_out.add_data_vector(v_scaled, snames, DataOut<dim>::type_dof_data);
+      // The wall-parallel speed over v_wall (Fig. 6: v / (R_i Omega)): v_x (column), v_theta
+      // (quad section), or the circumferential part of (v_x, v_y) (slice, at the point's angle).
+      class WallParallelSpeed : public DataPostprocessorScalar<dim>
+      {
+      public:
+        WallParallelSpeed(const bool slice, const double v_wall)
+            : DataPostprocessorScalar<dim>("v_over_v_wall",
+                                           update_values | update_quadrature_points)
+            , slice(slice)
+            , v_wall(v_wall)
+        {
+        }
+        void
+        evaluate_vector_field(const DataPostprocessorInputs::Vector<dim> &in,
+                              std::vector<Vector<double>>                &computed) const override
+        {
+          for (unsigned int q = 0; q < in.solution_values.size(); ++q)
+            {
+              const auto &v     = in.solution_values[q];
+              double      speed = v[dim == 3 ? 0 : 2]; // v_x, or v_theta
+              if (slice)
+                {
+                  const double phi =
+                      std::atan2(in.evaluation_points[q][1], in.evaluation_points[q][0]);
+                  speed = -std::sin(phi) * v[0] + std::cos(phi) * v[1];
+                }
+              computed[q](0) = speed / v_wall;
+            }
+        }
+
+      private:
+        const bool   slice;
+        const double v_wall;
+      } wall_parallel_speed(slice, scale.v_wall);
+      data_out.add_data_vector(v, wall_parallel_speed);
       const unsigned int n = tria.n_active_cells();
       Vector<float>      mu(n), p(n), p_scaled(n), tau(n), gamma_dot(n);
       for (unsigned int c = 0; c < n; ++c)
