@@ -2,26 +2,34 @@
 # Daviet 6.1.2 / Fig. 5: max-norm and H1 errors of the Bingham Poiseuille flow against the analytic
 # profile under uniform refinement, for P2-P1 (continuous stress, trapezoidal rule) and P2-P1d,
 # at Bi = 0.5 and 0.9. Writes DIR/convergence.csv and DIR/convergence-*.png.
-#   scripts/convergence_bingham.sh [BUILD_DIR] [OUT_DIR] [REFINEMENTS]
+# The solver tolerance shrinks with the triangle area, 1e-8 / 4^r: gamma is weighted by the area of
+# its constraint point (Property 3), so a fixed Fischer-Burmeister tolerance admits strain-rate
+# errors that grow like tol / h^2 and, at Bi = 0.9 on the fifth mesh, exceed the discretisation
+# error (1e-8 there: max-norm error 8.8e-5 against 1.8e-5 at 1e-10). Below about 1e-10 the SPG
+# inner solves barely progress, so each solve is capped at 600 s and keeps its best iterate
+# (exit 3); the CSV records the residual reached.
+#   scripts/convergence_bingham.sh [BUILD_DIR] [OUT_DIR] [MESHES]
 set -euo pipefail
-build=${1:-build} out=${2:-results/convergence_bingham} levels=${3:-4}
+build=${1:-build} out=${2:-results/convergence_bingham} levels=${3:-5}
 granflow="$build/apps/granflow"
 mkdir -p "$out"
 csv="$out/convergence.csv"
-echo "stress_element,Bi,refinements,h,error_Linf,error_H1,fixed_point_iterations,time_s" >"$csv"
+echo "stress_element,Bi,refinements,h,error_Linf,error_H1,fixed_point_iterations,tolerance,residual,time_s" >"$csv"
 for element in P1 P1d; do
   for Bi in 0.5 0.9; do
     for r in $(seq 0 $((levels - 1))); do
       run="$out/runs/${element}_Bi${Bi}_r$r"
       "$granflow" run cases/daviet2016/bingham_poiseuille.prm --quiet --output "$run" \
         --set "Solver/Stress element=$element" --set "Rheology/Bi=$Bi" --set "Geometry/Mesh size=0.2" \
-        --set "Geometry/Global refinements=$r" --set "Output/Write vtu=false" >/dev/null
+        --set "Geometry/Global refinements=$r" --set "Solver/Tolerance=$(awk "BEGIN { print 1e-8 / 4^$r }")" \
+        --set "Solver/Max seconds=600" --set "Output/Write vtu=false" >/dev/null || [ $? -eq 3 ]
       /usr/bin/python3 - "$run/summary.json" "$element" "$Bi" "$r" >>"$csv" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
 r = int(sys.argv[4])
 print(f"{sys.argv[2]},{sys.argv[3]},{r},{0.2 / 2**r},{s['error_Linf']},{s['error_H1']},"
-      f"{s['solver']['fixed_point_iterations']},{s['timings']['total_s']}")
+      f"{s['solver']['fixed_point_iterations']},{s['solver']['tolerance']},{s['solver']['residual']},"
+      f"{s['timings']['total_s']}")
 PY
     done
   done

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 namespace granflow
@@ -46,6 +47,56 @@ namespace granflow
       return out;
     }
 
+    /// A deal.II pattern description in words: "[Double 0...MAX_DOUBLE (inclusive)]" -> "a number
+    /// in [0, inf)", "[Selection a|b ]" -> "one of 'a', 'b'", "[Double > 0]" -> "a number > 0".
+    std::string
+    describe_pattern(std::string p)
+    {
+      std::smatch m;
+      const auto  bound = [](const std::string &b) {
+        return b == "MAX_DOUBLE" || b == "2147483647" ? std::string("inf") : b;
+      };
+      const auto lower = [](const std::string &b) {
+        return b == "-MAX_DOUBLE" || b == "-2147483648" ? std::string("-inf") : b;
+      };
+      if (std::regex_match(p, m, std::regex(R"(\[?Double (.*)\.\.\.(.*) \(inclusive\)\]?)")))
+        return "a number in [" + lower(m[1]) + ", " + bound(m[2]) +
+               (bound(m[2]) == "inf" ? ")" : "]");
+      if (std::regex_match(p, m, std::regex(R"(\[?Integer range (.*)\.\.\.(.*) \(inclusive\)\]?)")))
+        return "an integer in [" + lower(m[1]) + ", " + bound(m[2]) +
+               (bound(m[2]) == "inf" ? ")" : "]");
+      if (std::regex_match(p, m, std::regex(R"(\[?Double (.*?)\]?)")))
+        return "a number " + std::string(m[1]);
+      if (std::regex_match(p, m, std::regex(R"(\[?Selection (.*?) *\]?)")))
+        {
+          std::string out;
+          for (const auto &choice : split_list(m[1], '|'))
+            out += (out.empty() ? "one of '" : ", '") + choice + "'";
+          return out;
+        }
+      if (std::regex_match(p, std::regex(R"(\[?Bool\]?)")))
+        return "true or false";
+      return p;
+    }
+
+    /// deal.II's "value does not match the pattern" messages, said as the project says them.
+    std::string
+    readable(const std::string &message)
+    {
+      std::smatch m;
+      if (std::regex_search(
+              message, m,
+              std::regex(R"(The string <(.*)> does not match the given pattern <(.*)>\.?$)")))
+        return "value '" + std::string(m[1]) + "' is invalid: expected " + describe_pattern(m[2]);
+      if (std::regex_search(
+              message, m,
+              std::regex(
+                  R"(Line <(\d+)> of file <[^>]*>: The entry value (.*) for the entry named (.*) does not match the given pattern:? <?(\[.*\])>?\.?$)")))
+        return "line " + std::string(m[1]) + ": entry '" + std::string(m[3]) + "': value '" +
+               std::string(m[2]) + "' is invalid: expected " + describe_pattern(m[4]);
+      return message;
+    }
+
     void
     require_readable(const std::string &file)
     {
@@ -53,6 +104,48 @@ namespace granflow
         throw InputError(file + ": cannot open the case file (no such readable file)");
     }
   } // namespace
+
+  Interval::Interval(const double lower, const bool lower_open, const double upper,
+                     const bool upper_open)
+      : lower(lower)
+      , upper(upper)
+      , lower_open(lower_open)
+      , upper_open(upper_open)
+  {
+  }
+
+  bool
+  Interval::match(const std::string &test) const
+  {
+    std::istringstream in(test);
+    double             x;
+    in >> x;
+    if (in.fail())
+      return false;
+    std::string rest;
+    in >> rest; // nothing may follow the number
+    if (!rest.empty() || !std::isfinite(x))
+      return false;
+    return (lower_open ? x > lower : x >= lower) && (upper_open ? x < upper : x <= upper);
+  }
+
+  std::string
+  Interval::description(const OutputStyle) const
+  {
+    std::ostringstream s;
+    if (upper == inf)
+      s << "[Double " << (lower_open ? "> " : ">= ") << lower << "]";
+    else
+      s << "[Double in " << (lower_open ? '(' : '[') << lower << ", " << upper
+        << (upper_open ? ')' : ']') << "]";
+    return s.str();
+  }
+
+  std::unique_ptr<dealii::Patterns::PatternBase>
+  Interval::clone() const
+  {
+    return std::make_unique<Interval>(*this);
+  }
 
   Override
   parse_override(const std::string &argument)
@@ -75,7 +168,7 @@ namespace granflow
       }
     catch (const dealii::ExceptionBase &e)
       {
-        throw InputError(case_file + ": " + one_line(e));
+        throw InputError(case_file + ": " + readable(one_line(e)));
       }
     const std::string model = trim(prm.get("Model"));
     if (model.empty())
@@ -96,7 +189,7 @@ namespace granflow
       }
     catch (const dealii::ExceptionBase &e)
       {
-        throw InputError(case_file + ": " + one_line(e));
+        throw InputError(case_file + ": " + readable(one_line(e)));
       }
     for (const Override &o : overrides)
       {
@@ -113,7 +206,7 @@ namespace granflow
           }
         catch (const dealii::ExceptionBase &e)
           {
-            throw InputError("--set " + o.path + "=" + o.value + ": " + one_line(e));
+            throw InputError("--set " + o.path + "=" + o.value + ": " + readable(one_line(e)));
           }
       }
   }

@@ -7,12 +7,40 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <limits>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace granflow
 {
+  /// A real number in an interval whose ends may be open: the pattern of entries such as "> 0" or
+  /// "(0, 1e6]". deal.II's Patterns::Double includes both ends, so an entry that must be positive
+  /// showed the range [0, MAX_DOUBLE] and was then rejected at 0 by a second check.
+  class Interval : public dealii::Patterns::PatternBase
+  {
+  public:
+    static constexpr double inf = std::numeric_limits<double>::infinity();
+    Interval(double lower, bool lower_open, double upper = inf, bool upper_open = true);
+    /// (0, inf): a positive number.
+    static Interval
+    positive(double upper = inf)
+    {
+      return {0., true, upper, upper == inf};
+    }
+    bool
+    match(const std::string &test) const override;
+    std::string
+    description(OutputStyle style = Machine) const override;
+    std::unique_ptr<dealii::Patterns::PatternBase>
+    clone() const override;
+
+  private:
+    double lower, upper;
+    bool   lower_open, upper_open;
+  };
+
   /// A `--set Section/key=value` override from the command line.
   struct Override
   {

@@ -13,6 +13,7 @@ namespace granflow::dp
   using dealii::Patterns::Double;
   using dealii::Patterns::Integer;
   using dealii::Patterns::Selection;
+  using granflow::Interval;
   using Anything = dealii::Patterns::Anything;
 
   void
@@ -38,21 +39,26 @@ namespace granflow::dp
       prm.add_parameter("Mesh file", g.mesh_file,
                         "Gmsh .msh file with named physical curves (Shape = file).", Anything());
       prm.add_parameter("Mesh size", g.mesh_size, "Target element size h (units of L), > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter(
           "Global refinements", g.refinements,
           "Uniform refinements of the generated mesh, in [0, 10] (at most 1e7 triangles).",
           Integer(0, 10));
-      prm.add_parameter("Channel length", g.channel_length, "Channel length H (Fig. 3, Fig. 12), > 0.",
-                        Double(0.));
-      prm.add_parameter("Channel width", g.channel_width, "Channel width (2L in Fig. 3, L in Fig. 12), > 0.",
-                        Double(0.));
+      prm.add_parameter("Channel length", g.channel_length,
+                        "Channel length H (Fig. 3, Fig. 12), > 0.", Interval::positive());
+      prm.add_parameter("Channel width", g.channel_width,
+                        "Channel width (2L in Fig. 3, L in Fig. 12), > 0.", Interval::positive());
       prm.add_parameter("Cylinder diameter", g.cylinder_diameter,
-                        "Cylinder diameter D (Fig. 12), in (0, channel width).", Double(0.));
-      prm.add_parameter("Patch size", g.patch_size, "Side of the square patch, > 0.", Double(0.));
-      prm.add_parameter("Silo width", g.silo_width, "Half-silo width W (Fig. 8), > 0.", Double(0.));
-      prm.add_parameter("Silo height", g.silo_height, "Half-silo height H (Fig. 8), > 0.", Double(0.));
-      prm.add_parameter("Aperture", g.aperture, "Silo aperture D (full width), > 0.", Double(0.));
+                        "Cylinder diameter D (Fig. 12), in (0, channel width).",
+                        Interval::positive());
+      prm.add_parameter("Patch size", g.patch_size, "Side of the square patch, > 0.",
+                        Interval::positive());
+      prm.add_parameter("Silo width", g.silo_width, "Half-silo width W (Fig. 8), > 0.",
+                        Interval::positive());
+      prm.add_parameter("Silo height", g.silo_height, "Half-silo height H (Fig. 8), > 0.",
+                        Interval::positive());
+      prm.add_parameter("Aperture", g.aperture, "Silo aperture D (full width), > 0.",
+                        Interval::positive());
       prm.add_parameter("Outlet extension", g.outlet_extension,
                         "Depth of the channel added below the outlet (Appendix B), >= 0.", Double(0.));
     }
@@ -66,13 +72,13 @@ namespace granflow::dp
       prm.add_parameter("Re", r.Re,
                         "Reynolds number Re = rho U L / eta, in (0, 1e6] (the viscous term 2/Re "
                         "D(u) keeps the velocity operator A definite).",
-                        Double(0., 1e6));
+                        Interval::positive(1e6));
       prm.add_parameter("b", r.b, "Bulk-viscosity parameter b of D^b(u), >= 0.", Double(0.));
       prm.add_parameter("Viscosity", r.viscosity,
                         "constant, or bagnold: eta = |D(u)| by fixed point (Daviet 6.1.3).",
                         Selection("constant|bagnold"));
       prm.add_parameter("Viscosity floor", r.viscosity_floor,
-                        "Lower bound of eta for the bagnold law, > 0.", Double(0.));
+                        "Lower bound of eta for the bagnold law, > 0.", Interval::positive());
     }
     prm.leave_subsection();
 
@@ -117,7 +123,7 @@ namespace granflow::dp
                         "Stopping residual: fischer-burmeister (Bi = 0 points) or alart-curnier.",
                         Selection("fischer-burmeister|alart-curnier"));
       prm.add_parameter("Tolerance", s.tolerance, "Infinity norm of the residual to reach, > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Max outer iterations", s.max_outer_iterations,
                         "Cadoux fixed-point iterations (interior point: its iterations) before "
                         "giving up, >= 1.",
@@ -137,7 +143,8 @@ namespace granflow::dp
       prm.add_parameter("Viscosity iterations", s.viscosity_iterations,
                         "Fixed-point iterations on eta(x) (bagnold), >= 1.", Integer(1));
       prm.add_parameter("Viscosity tolerance", s.viscosity_tolerance,
-                        "Relative change of u that ends the eta fixed point, > 0.", Double(0.));
+                        "Relative change of u that ends the eta fixed point, > 0.",
+                        Interval::positive());
       prm.add_parameter("Dump cone problem", s.dump_cone_problem,
                         "If set, the cone problem is written to this file in the output directory "
                         "(replay with bench/replay_cone_problem).",

@@ -13,6 +13,7 @@ namespace granflow::ngf
   using dealii::Patterns::Double;
   using dealii::Patterns::Integer;
   using dealii::Patterns::Selection;
+  using granflow::Interval;
   using Anything = dealii::Patterns::Anything;
 
   void
@@ -26,27 +27,28 @@ namespace granflow::ngf
     {
       auto &m = material;
       prm.add_parameter("mu_s", m.nonlocal.mu_s, "Static yield stress ratio mu_s (22), in (0, 1).",
-                        Double(0., 1.));
+                        Interval(0., true, 1., true));
       prm.add_parameter("b", m.nonlocal.b, "Rate sensitivity b of mu_loc = mu_s + b I (1), > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("A", m.nonlocal.A,
                         "Nonlocal amplitude A of xi = A d / sqrt|mu - mu_s| (24), > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Grain diameter", m.nonlocal.d, "Mean grain diameter d [m], > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Grain density", m.nonlocal.rho_s,
-                        "Grain material density rho_s [kg/m^3], > 0.", Double(0.));
+                        "Grain material density rho_s [kg/m^3], > 0.", Interval::positive());
       prm.add_parameter("Shear modulus", m.elastic.S, "Shear modulus S of (12) [Pa], > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Bulk modulus", m.elastic.B, "Bulk modulus B of (12) [Pa], > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Solid fraction", m.phi,
                         "Solid volume fraction phi of b_0 = phi rho_s G (27), in (0, 1].",
-                        Double(0., 1.));
-      prm.add_parameter("Gravity", m.G, "Acceleration of gravity G [m/s^2], > 0.", Double(0.));
+                        Interval(0., true, 1., false));
+      prm.add_parameter("Gravity", m.G, "Acceleration of gravity G [m/s^2], > 0.",
+                        Interval::positive());
       prm.add_parameter("Cooperativity length cap", m.nonlocal.xi_cap_over_d,
                         "Smooth cap of xi in grain diameters (Section 4 footnote: 1000), > 0.",
-                        Double(0.));
+                        Interval::positive());
     }
     prm.leave_subsection();
 
@@ -65,22 +67,23 @@ namespace granflow::ngf
           Selection("shear column|annulus row|annulus|annulus slice"));
       prm.add_parameter("Depth", g.depth,
                         "Bed depth of the shear column in grain diameters (6.1: 20), > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Inner radius", g.inner_radius,
                         "Annulus inner radius R_i in grain diameters (6.2: 60), in (0, 1e5].",
-                        Double(0., 1e5));
+                        Interval::positive(1e5));
       prm.add_parameter("Gap", g.gap, "Annulus width R_o - R_i in grain diameters (6.2: 20), > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Height", g.height,
-                        "Annulus fill height H in grain diameters (6.3: 15), > 0.", Double(0.));
+                        "Annulus fill height H in grain diameters (6.3: 15), > 0.",
+                        Interval::positive());
       prm.add_parameter("Slice angle", g.slice_angle,
                         "Angle of the 3D annulus slice in degrees (6.3: 0.1), in (0, 10].",
-                        Double(0., 10.));
+                        Interval::positive(10.));
       prm.add_parameter(
           "Element size", g.element_size,
           "Element size h in grain diameters (6.1: 1/3); rounded so that every length is an "
           "integer number of elements, > 0, and at most 1e6 elements in all.",
-          Double(0.));
+          Interval::positive());
     }
     prm.leave_subsection();
 
@@ -90,24 +93,24 @@ namespace granflow::ngf
       prm.add_parameter(
           "Wall pressure", l.wall_pressure,
           "Shear column: dimensionless wall pressure P_wall / (phi rho_s G d) (6.1), > 0.",
-          Double(0.));
+          Interval::positive());
       prm.add_parameter("Confining pressure", l.confining_pressure,
                         "Annulus row: pressure P_wall on the outer wall [Pa] (6.2), > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter(
           "Wall speed", l.wall_speed,
           "Dimensionless speed of the driven wall: v_wall / sqrt(G d) (shear column, 6.1), "
           "R_i Omega sqrt(rho_s / P_wall) (annulus row, 6.2), R_i Omega / sqrt(G d) (annulus, "
           "6.3); > 0.",
-          Double(0.));
+          Interval::positive());
       prm.add_parameter("Wall displacement", l.wall_displacement,
                         "Shear column: wall displacement at the end of the run, in grain diameters "
                         "(6.1: 1), in (0, 1e4].",
-                        Double(0., 1e4));
+                        Interval::positive(1e4));
       prm.add_parameter("Wall rotation", l.wall_rotation,
                         "Annulus: rotation of the inner wall at the end of the run [degrees] (6.2, "
                         "6.3: 4), in (0, 3600].",
-                        Double(0., 3600.));
+                        Interval::positive(3600.));
     }
     prm.leave_subsection();
 
@@ -137,17 +140,17 @@ namespace granflow::ngf
           "Tolerance", s.tolerance,
           "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, in (0, "
           "1e-3].",
-          Double(0., 1e-3));
+          Interval::positive(1e-3));
       prm.add_parameter("Max Newton iterations", s.max_iterations,
                         "Newton iterations before the increment is cut, in [1, 100].",
                         Integer(1, 100));
       prm.add_parameter("First increment", s.first_increment,
                         "Wall displacement of the first shear increment, in grain diameters, > 0 "
                         "and at most Max increment.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter("Max increment", s.max_increment,
                         "Largest wall displacement per increment, in grain diameters, > 0.",
-                        Double(0.));
+                        Interval::positive());
       prm.add_parameter(
           "Reuse factorization", s.reuse_factorization,
           "Take Newton steps with the last factorized Jacobian (also across increments) while "
