@@ -36,8 +36,11 @@ namespace granflow::dp
                         "square patch (inclined plane, Fig. 6), half silo (Fig. 8), cylinder channel "
                         "(Fig. 12), file.",
                         Selection("channel|square patch|half silo|cylinder channel|file"));
-      prm.add_parameter("Mesh file", g.mesh_file,
-                        "Gmsh .msh file with named physical curves (Shape = file).", Anything());
+      prm.add_parameter(
+          "Mesh file", g.mesh_file,
+          "Gmsh .msh file with named physical curves (Shape = file); a relative path is "
+          "read from the directory granflow runs in, not the case file's.",
+          Anything());
       prm.add_parameter("Mesh size", g.mesh_size, "Target element size h (units of L), > 0.",
                         Interval::positive());
       prm.add_parameter(
