@@ -71,14 +71,17 @@ namespace granflow
     if (committed)
       return;
     fs::create_directories(final_path);
+    // Only the two directories a run writes are looked at (not recursively: DIR may be large).
     std::vector<fs::path> stale;
-    for (const auto &entry : fs::recursive_directory_iterator(final_path))
-      {
-        const fs::path relative = fs::relative(entry.path(), final_path);
-        if (entry.is_regular_file() && is_run_output(relative) &&
-            !fs::exists(fs::path(root) / relative))
-          stale.push_back(entry.path());
-      }
+    for (const fs::path &sub : {fs::path(), fs::path("profiles")})
+      if (fs::is_directory(fs::path(final_path) / sub))
+        for (const auto &entry : fs::directory_iterator(fs::path(final_path) / sub))
+          {
+            const fs::path relative = sub / entry.path().filename();
+            if (entry.is_regular_file() && is_run_output(relative) &&
+                !fs::exists(fs::path(root) / relative))
+              stale.push_back(entry.path());
+          }
     for (const auto &file : stale)
       fs::remove(file);
     for (const auto &entry : fs::recursive_directory_iterator(root))
