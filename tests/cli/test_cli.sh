@@ -76,6 +76,8 @@ bad gravity-not-finite "Gravity direction" --set "Gravity direction=nan, 1"
 bad external-pressure-not-finite "finite number" --set "Boundary conditions/External pressure=inlet: inf"
 bad profile-off-the-mesh "Output/Profile start" --set "Output/Profile start=100, 100" --set "Output/Profile end=101, 100"
 bad rigid-motion-free "Boundary conditions/No-slip" --set "Boundary conditions/No-slip="
+bad rigid-motion-free-interior-point "Boundary conditions/No-slip" --set "Boundary conditions/No-slip=" \
+  --set "Solver/Method=interior point" --set "Rheology/mu=0.3" --set "Rheology/Bi=0" --set "Output/Reference=none"
 bad viscosity-tolerance-zero "Solver/Viscosity tolerance" --set "Solver/Viscosity tolerance=0"
 bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip'" --set "Boundary conditions/No-slip=bottom, lid"
 bad blames-the-set "--set Geometry/Mesh size=0" --set "Geometry/Mesh size=0"
