@@ -220,17 +220,6 @@ namespace granflow
     throw e;
   }
 
-  void
-  require_positive(const double value, const std::string &file, const std::string &entry)
-  {
-    if (!(value > 0.))
-      {
-        std::ostringstream s;
-        s << "value " << value << " is out of range: expected a number > 0";
-        throw InputError(file, entry, s.str());
-      }
-  }
-
   std::vector<std::string>
   split_list(const std::string &list, const char separator)
   {

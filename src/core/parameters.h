@@ -98,10 +98,6 @@ namespace granflow
     return parameters;
   }
 
-  /// Throws InputError(file, entry, "...") unless value > 0 (for ranges Patterns cannot express).
-  void
-  require_positive(double value, const std::string &file, const std::string &entry);
-
   /// Splits "a, b, c" into trimmed non-empty items.
   std::vector<std::string>
   split_list(const std::string &list, char separator = ',');

@@ -182,18 +182,12 @@ namespace granflow::dp
   Parameters::validate() const
   {
     const std::string &f = case_file;
-    require_positive(geometry.mesh_size, f, "Geometry/Mesh size");
-    require_positive(rheology.Re, f, "Rheology/Re");
-    require_positive(solver.tolerance, f, "Solver/Tolerance");
-    require_positive(solver.viscosity_tolerance, f, "Solver/Viscosity tolerance");
     if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::interior_point &&
         !(rheology.mu > 0. && rheology.Bi == 0.))
       throw InputError(f, "Solver/Method",
                        "= interior point needs Rheology/mu > 0 and Rheology/Bi = 0; use fixed point");
     if (geometry.shape == "file" && geometry.mesh_file.empty())
       throw InputError(f, "Geometry/Mesh file", "is empty: Shape = file needs a .msh file");
-    if (rheology.viscosity == "bagnold")
-      require_positive(rheology.viscosity_floor, f, "Rheology/Viscosity floor");
     if (!boundaries.analytic_traction.empty() && output.reference != "bagnold")
       throw InputError(f, "Boundary conditions/Analytic traction",
                        "needs an analytic reference with stresses: set Output/Reference = bagnold");

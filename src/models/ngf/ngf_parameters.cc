@@ -183,25 +183,6 @@ namespace granflow::ngf
   Parameters::validate() const
   {
     const std::string &f = case_file;
-    const auto        &m = material;
-    require_positive(m.nonlocal.mu_s, f, "Material/mu_s");
-    if (m.nonlocal.mu_s >= 1.)
-      throw InputError(f, "Material/mu_s",
-                       "= " + std::to_string(m.nonlocal.mu_s) + ": expected a value in (0, 1)");
-    require_positive(m.nonlocal.b, f, "Material/b");
-    require_positive(m.nonlocal.A, f, "Material/A");
-    require_positive(m.nonlocal.d, f, "Material/Grain diameter");
-    require_positive(m.nonlocal.rho_s, f, "Material/Grain density");
-    require_positive(m.elastic.S, f, "Material/Shear modulus");
-    require_positive(m.elastic.B, f, "Material/Bulk modulus");
-    require_positive(m.phi, f, "Material/Solid fraction");
-    require_positive(m.G, f, "Material/Gravity");
-    require_positive(m.nonlocal.xi_cap_over_d, f, "Material/Cooperativity length cap");
-    require_positive(geometry.depth, f, "Geometry/Depth");
-    require_positive(geometry.inner_radius, f, "Geometry/Inner radius");
-    require_positive(geometry.gap, f, "Geometry/Gap");
-    require_positive(geometry.height, f, "Geometry/Height");
-    require_positive(geometry.element_size, f, "Geometry/Element size");
     {
       // Elements along and across the shear gradient, as scales() rounds them (before rounding, so
       // that an absurd ratio cannot overflow the count).
@@ -224,20 +205,11 @@ namespace granflow::ngf
                             : geometry.shape == "annulus row"
                                 ? geometry.gap
                                 : std::min(geometry.gap, geometry.height);
-    require_positive(geometry.slice_angle, f, "Geometry/Slice angle");
     if (geometry.element_size > shortest)
       throw InputError(f, "Geometry/Element size",
                        "= " + std::to_string(geometry.element_size) +
                            " is larger than the domain (" + std::to_string(shortest) +
                            " grain diameters)");
-    require_positive(loading.wall_pressure, f, "Loading/Wall pressure");
-    require_positive(loading.confining_pressure, f, "Loading/Confining pressure");
-    require_positive(loading.wall_speed, f, "Loading/Wall speed");
-    require_positive(loading.wall_displacement, f, "Loading/Wall displacement");
-    require_positive(loading.wall_rotation, f, "Loading/Wall rotation");
-    require_positive(solver.tolerance, f, "Solver/Tolerance");
-    require_positive(solver.first_increment, f, "Solver/First increment");
-    require_positive(solver.max_increment, f, "Solver/Max increment");
     if (solver.first_increment > solver.max_increment)
       {
         std::ostringstream s;
@@ -256,7 +228,7 @@ namespace granflow::ngf
           f, "Solver/Fluidity",
           "= local has no fluidity field: leave the Fluidity boundary conditions empty");
     // Fluidity boundaries (25): each names a boundary of the geometry, at most once in the two
-    // lists together, with a finite value (a fluidity g_wall >= 0 for Dirichlet).
+    // lists together; a Dirichlet value is a fluidity g_wall >= 0.
     const auto               names     = boundary_names();
     const auto               dirichlet = fluidity_dirichlet(), neumann = fluidity_neumann();
     std::vector<std::string> named;
@@ -280,12 +252,11 @@ namespace granflow::ngf
                                  "' a second time: expected each boundary at most once in the "
                                  "Dirichlet and Neumann lists together");
           named.push_back(name);
-          const bool is_dirichlet = list == &dirichlet;
-          if (!std::isfinite(value) || (is_dirichlet && value < 0.))
+          // (parse_named_values has already rejected non-finite values)
+          if (list == &dirichlet && value < 0.)
             {
               std::ostringstream s;
-              s << "value " << value << " on '" << name << "': expected a finite number"
-                << (is_dirichlet ? " >= 0 (a fluidity)" : "");
+              s << "value " << value << " on '" << name << "': expected a number >= 0 (a fluidity)";
               throw InputError(f, entry, s.str());
             }
         }
