@@ -77,14 +77,7 @@ namespace granflow
     parameters.declare(prm);
     parse_case_file(prm, case_file, overrides);
     parameters.case_file = case_file;
-    try
-      {
-        parameters.validate();
-      }
-    catch (const InputError &e)
-      {
-        rethrow_naming_overrides(e, overrides);
-      }
+    parameters.validate();
   }
 
   /// read_case() into a fresh ParameterHandler.

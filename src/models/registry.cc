@@ -51,11 +51,6 @@ namespace granflow
           out.commit(); // what was written so far is kept
           throw;
         }
-      catch (const InputError &e)
-        {
-          // found while running (a mesh lacking a boundary, a profile line off the mesh, ...)
-          rethrow_naming_overrides(e, request.overrides);
-        }
     }
   } // namespace
 
@@ -87,7 +82,16 @@ namespace granflow
     const std::string name = read_model_name(request.case_file);
     for (const auto &m : models())
       if (m.name == name)
-        return m.run(request);
+        try
+          {
+            return m.run(request);
+          }
+        catch (const InputError &e)
+          {
+            // found by validate() or while running (a mesh lacking a boundary, a profile line off
+            // the mesh, ...): a value from the command line is blamed on its --set
+            rethrow_naming_overrides(e, request.overrides);
+          }
     std::string known;
     for (const auto &m : models())
       known += (known.empty() ? "" : ", ") + m.name;
