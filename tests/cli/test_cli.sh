@@ -87,6 +87,7 @@ check missing-case 2 "nosuch.prm" "$GRANFLOW" run nosuch.prm --output keep
 check empty-output 2 "--output" "$GRANFLOW" run "$case_file" --output ""
 echo "a file" >afile
 check output-is-a-file 2 "is not a directory" "$GRANFLOW" run "$case_file" --output afile --quiet
+bad dump-unwritable "Solver/Dump cone problem" --set "Solver/Dump cone problem=$work/afile/cone.bin"
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   nothing lost"; passes=$((passes + 1));
 else echo "FAIL bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi
 
