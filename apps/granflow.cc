@@ -1,5 +1,6 @@
 // granflow command line: run a case file, list the shipped cases, print a model's parameters.
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "models/registry.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -26,7 +27,8 @@ Usage:
 Results go to DIR (default results/<case name>): solution.pvd (open in ParaView),
 summary.json, profiles/*.csv, log.txt. Plot a profile with scripts/plot.
 
-Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far kept).
+Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far kept),
+130 / 143 stopped by Ctrl-C / SIGTERM (results so far kept; a second Ctrl-C ends at once).
 )";
 
   /// The help text; its list of models is the registry's, so a new model shows up by itself.
@@ -120,6 +122,7 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
       }
     if (request.case_file.empty())
       throw granflow::InputError("run: missing CASE.prm (see granflow --help)");
+    granflow::interrupt::install();
     const auto summary = granflow::run_case(request);
     const std::string dir = summary.value("output_directory", std::string());
     std::cout << "\nDone. Results in " << dir << ":\n";
@@ -166,6 +169,11 @@ main(int argc, char **argv)
     {
       std::cerr << "granflow: error: " << e.what() << '\n';
       return granflow::exit_status::bad_input;
+    }
+  catch (const granflow::Interrupted &e)
+    {
+      std::cerr << "granflow: interrupted: " << e.what() << '\n';
+      return e.exit_status();
     }
   catch (const granflow::ConvergenceError &e)
     {

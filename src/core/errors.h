@@ -1,6 +1,7 @@
 // Error types that map to the exit status of the command line (README, "Exit status"):
 // InputError -> 2 (bad case file, value out of range, missing or unusable mesh),
-// ConvergenceError -> 3 (a solver did not converge; results written so far are kept).
+// ConvergenceError -> 3 (a solver did not converge; results written so far are kept),
+// Interrupted -> 128 + the signal (the run was stopped by SIGINT / SIGTERM; results so far kept).
 #pragma once
 
 #include <stdexcept>
@@ -37,6 +38,28 @@ namespace granflow
   {
   public:
     using std::runtime_error::runtime_error;
+  };
+
+  /// The run was stopped by a signal (core/interrupt.h) before it converged; like ConvergenceError,
+  /// what was written so far is kept.
+  class Interrupted : public ConvergenceError
+  {
+  public:
+    Interrupted(const std::string &what, const int signal)
+        : ConvergenceError(what)
+        , signal(signal)
+    {
+    }
+
+    /// 128 + the signal number, the shell's convention for a process ended by a signal.
+    int
+    exit_status() const
+    {
+      return 128 + signal;
+    }
+
+  private:
+    int signal;
   };
 
   /// Exit status of the command line for each outcome.

@@ -68,11 +68,15 @@ namespace granflow::solvers
     std::ostream *log                    = nullptr; // fixed-column iteration table, if set
     /// Called after every fixed-point iteration with (iteration, residual): console progress.
     std::function<void(unsigned int, double)> progress;
+    /// Polled by the outer and the inner iterations: once it returns true, the solve ends as at
+    /// the time limit, with the iterate of least residual and stats.interrupted set.
+    std::function<bool()> stop_requested;
   };
 
   struct ConeSolverStats
   {
     bool         converged            = false;
+    bool         interrupted           = false; // ended by options.stop_requested
     unsigned int outer_iterations     = 0;
     unsigned int inner_iterations     = 0; // summed over the outer iterations
     unsigned int operator_applications = 0; // applications of W (one A^{-1} back-solve each);

@@ -295,6 +295,13 @@ namespace granflow::solvers
       double last_residual = 0.; // natural-map residual of the last inner solve
 
     private:
+      /// The outer loop sees the same request at its next check and ends there.
+      bool
+      stop_requested() const
+      {
+        return options.stop_requested && options.stop_requested();
+      }
+
       /// d = Pi_K(x - step g) - x
       void
       projected_direction(Vector &d, const Quadratic &s, const double step) const
@@ -314,7 +321,7 @@ namespace granflow::solvers
         unsigned int it = 0;
         for (; it < max_iterations; ++it)
           {
-            if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
+            if (K.projected_gradient_norm(s.x, s.g) <= tolerance || stop_requested())
               break;
             projected_direction(d, s, 1. / lipschitz);
             W.apply(Wd, d);
@@ -339,7 +346,7 @@ namespace granflow::solvers
         unsigned int it = 0;
         for (; it < max_iterations; ++it)
           {
-            if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
+            if (K.projected_gradient_norm(s.x, s.g) <= tolerance || stop_requested())
               break;
             for (;;)
               {
@@ -393,7 +400,7 @@ namespace granflow::solvers
         unsigned int           it = 0;
         for (; it < max_iterations; ++it)
           {
-            if (K.projected_gradient_norm(s.x, s.g) <= tolerance)
+            if (K.projected_gradient_norm(s.x, s.g) <= tolerance || stop_requested())
               break;
             projected_direction(d, s, step);
             W.apply(Wd, d);

@@ -35,7 +35,8 @@ namespace granflow::solvers::detail
     }
 
     /// Called once the iterate is logged: reports progress, then tells whether the loop ends
-    /// (tolerance reached, which sets stats.converged, or the iteration or time limit).
+    /// (tolerance reached, which sets stats.converged; a stop request, which sets
+    /// stats.interrupted; or the iteration or time limit).
     bool
     finished()
     {
@@ -44,6 +45,11 @@ namespace granflow::solvers::detail
       if (stats.residual <= options.tolerance)
         {
           stats.converged = true;
+          return true;
+        }
+      if (options.stop_requested && options.stop_requested())
+        {
+          stats.interrupted = true;
           return true;
         }
       return stats.outer_iterations == options.max_outer_iterations ||

@@ -102,6 +102,33 @@ check max-seconds 3 "Max seconds" timeout 60 "$GRANFLOW" run "$case_file" --outp
   --set "Solver/Max outer iterations=10000000" --set "Solver/Tolerance=1e-14" --set "Solver/Max seconds=0.5"
 bad max-seconds-negative "Max seconds" --set "Solver/Max seconds=-1"
 
+# Ctrl-C / SIGTERM: the run stops at its next iteration, writes what it has (summary.json says
+# "interrupted": true; a process killed before the handler would have none) and exits with
+# 128 + the signal; no staging directory is left behind.
+interrupted() { # name, signal, expected status, output directory, command...
+  local name=$1 signal=$2 status=$3 dir=$4
+  shift 4
+  "$@" --output "$dir" --quiet >out.txt 2>err.txt &
+  local pid=$! waited=0
+  # log.txt appears once the handler is installed
+  until [ -s ".$dir.staging/log.txt" ] || [ $waited -ge 600 ]; do sleep 0.1; waited=$((waited + 1)); done
+  sleep 1
+  kill "-$signal" $pid
+  wait $pid
+  local got=$?
+  if [ "$got" -eq "$status" ] && grep -q '"interrupted": true' "$dir/summary.json" 2>/dev/null &&
+    grep -qF "interrupted: " err.txt && [ ! -e ".$dir.staging" ]; then
+    echo "ok   $name"; passes=$((passes + 1))
+  else
+    echo "FAIL $name: exit $got (expected $status), summary:"; grep -s interrupted "$dir/summary.json"
+    cat err.txt; ls -a; failures=$((failures + 1))
+  fi
+}
+interrupted dp-ctrl-c INT 130 int_dp "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
+  --set "Solver/Method=fixed point" --set "Solver/Tolerance=1e-12" --set "Solver/Max seconds=120"
+interrupted ngf-sigterm TERM 143 int_ngf "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" \
+  --set "Output/Write vtu=false"
+
 # ngf (Henann & Kamrin 2016): bad material values and fluidity boundaries (issue #3 h).
 ngf_case="$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm"
 check ngf-print-parameters 0 "set mu_s" "$GRANFLOW" print-parameters ngf

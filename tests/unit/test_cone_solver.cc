@@ -300,6 +300,30 @@ TEST(ConeInteriorPoint, RejectsPointsOutsideItsScope)
     }
 }
 
+TEST(ConeSolverStop, AStopRequestEndsEitherMethodWithItsBestIterate)
+{
+  // A stop request (Ctrl-C in the command line) ends the solve at its next check, like the time
+  // limit: not converged, stats.interrupted set, and a solution that is the least-residual
+  // iterate (its stored residual is that of lambda and gamma returned).
+  const ConeProblemData data = coupled_random_problem();
+  for (const ConeMethod method : {ConeMethod::fixed_point, ConeMethod::interior_point})
+    {
+      ConeSolverOptions options;
+      options.method         = method;
+      options.tolerance      = 1e-14; // not reached in the two iterations allowed
+      unsigned int polls     = 0;
+      options.stop_requested = [&polls] { return ++polls > 2; };
+      ConeSolution solution;
+      const auto   stats = solve_cone_problem(data, options, solution);
+      EXPECT_FALSE(stats.converged);
+      EXPECT_TRUE(stats.interrupted);
+      EXPECT_LE(stats.outer_iterations, 2U);
+      EXPECT_DOUBLE_EQ(stats.residual,
+                       cone_residual(data, options.residual, solution.lambda, solution.gamma));
+      EXPECT_EQ(solution.u.size(), data.A.n_rows);
+    }
+}
+
 TEST(ConeProblemIO, DumpAndLoadRoundTrip)
 {
   ConeProblemData data;

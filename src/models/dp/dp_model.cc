@@ -2,6 +2,7 @@
 #include "models/dp/dp_model.h"
 
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "core/parameters.h"
 #include "geometry/geometry.h"
 #include "postprocess/analytic.h"
@@ -436,6 +437,7 @@ namespace granflow::dp
           << prm.solver.tolerance << ")";
         log.progress(s.str());
       };
+      options.stop_requested = interrupt::requested;
       if (!prm.solver.dump_cone_problem.empty())
         try
           {
@@ -528,7 +530,9 @@ namespace granflow::dp
             << stats.residual << ", " << stats.time_solve << " s";
           if (!stats.converged || !bagnold)
             {
-              log.print(s.str() + (stats.converged ? "\n" : " (not converged)\n"));
+              log.print(s.str() + (stats.converged     ? "\n"
+                                   : stats.interrupted ? " (interrupted)\n"
+                                                       : " (not converged)\n"));
               break;
             }
           Vector<double> diff = u;
@@ -548,12 +552,16 @@ namespace granflow::dp
             eta[k] = std::sqrt(eta[k] * eta_new[k]);
         }
 
-      solver_json = {
-          {"method", prm.solver.method},         {"residual_kind", prm.solver.residual},
-          {"tolerance", prm.solver.tolerance},   {"converged", stats.converged},
-          {"residual", stats.residual},          {"viscosity_iterations", viscosity_iterations},
-          {"viscosity_relative_change", change}, {"time_factorize_s", factorize_time},
-          {"time_solve_s", solve_time}};
+      solver_json = {{"method", prm.solver.method},
+                     {"residual_kind", prm.solver.residual},
+                     {"tolerance", prm.solver.tolerance},
+                     {"converged", stats.converged},
+                     {"interrupted", stats.interrupted},
+                     {"residual", stats.residual},
+                     {"viscosity_iterations", viscosity_iterations},
+                     {"viscosity_relative_change", change},
+                     {"time_factorize_s", factorize_time},
+                     {"time_solve_s", solve_time}};
       if (interior_point)
         solver_json["interior_point_iterations"] = outer_total;
       else
@@ -572,12 +580,19 @@ namespace granflow::dp
       if (!stats.converged)
         {
           std::ostringstream s;
-          s << "the " << (interior_point ? "interior-point method" : "Cadoux fixed point")
-            << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
-            << stats.residual << " after " << stats.outer_iterations
-            << " iterations; raise Solver/Max outer iterations, Max inner iterations or Max "
-               "seconds). "
-            << "The iterate of least residual was written to " << out.target();
+          s << "the " << (interior_point ? "interior-point method" : "Cadoux fixed point");
+          if (stats.interrupted)
+            s << " was stopped by " << interrupt::signal_name() << " at residual " << stats.residual
+              << " (tolerance " << prm.solver.tolerance << ") after " << stats.outer_iterations
+              << " iterations. ";
+          else
+            s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
+              << stats.residual << " after " << stats.outer_iterations
+              << " iterations; raise Solver/Max outer iterations, Max inner iterations or Max "
+                 "seconds). ";
+          s << "The iterate of least residual was written to " << out.target();
+          if (stats.interrupted)
+            throw Interrupted(s.str(), interrupt::signal_number());
           throw ConvergenceError(s.str());
         }
       if (bagnold && change > prm.solver.viscosity_tolerance)

@@ -1,6 +1,7 @@
 #include "models/ngf/ngf_model.h"
 
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "models/ngf/ngf_element.h"
 #include "postprocess/nonlocal_1d.h"
 
@@ -791,6 +792,7 @@ namespace granflow::ngf
       AffineConstraints<double> step_constraints;
       bool                      loading = true;
       std::string               failure;                // set when an increment cannot be completed
+      bool                      interrupted = false; // failure: a stop request (core/interrupt.h)
       std::vector<double> h_disp, h_mu, h_iter, h_vmax; // per increment: the history.csv columns
       while (loading || u_wall < scale.u_end * (1. - 1e-12))
         {
@@ -904,6 +906,14 @@ namespace granflow::ngf
             << scale.u_end / d << ", mu_wall " << mu_wall << ", " << iterations
             << " Newton iterations";
           log.progress(p.str());
+          if (interrupt::requested())
+            {
+              interrupted = true;
+              failure     = std::string("stopped by ") + interrupt::signal_name() +
+                        " after increment " + std::to_string(increment - 1) + " (of a run to " +
+                        std::to_string(scale.u_end / d) + " d)";
+              break;
+            }
         }
 
       nlohmann::json summary;
@@ -967,12 +977,18 @@ namespace granflow::ngf
                                              {"assembly_s", assembly_seconds},
                                              {"linear_solve_s", solve_seconds}};
       summary["converged"]                = failure.empty();
+      summary["interrupted"]              = interrupted;
       summary["wall_displacement_over_d"] = u_wall / d;
       out.write_json("summary.json", summary);
       if (!failure.empty())
-        throw ConvergenceError(failure + "; the last converged state (wall displacement " +
-                               std::to_string(u_wall / d) + " d) is written to " + out.target() +
-                               " (see log.txt)");
+        {
+          const std::string message = failure + "; the last converged state (wall displacement " +
+                                      std::to_string(u_wall / d) + " d) is written to " +
+                                      out.target() + " (see log.txt)";
+          if (interrupted)
+            throw Interrupted(message, interrupt::signal_number());
+          throw ConvergenceError(message);
+        }
       log.print("ngf: mu_wall = " + std::to_string(mu_wall) +
                 ", W/d = " + std::to_string(summary.value("shear_band_width_over_d", 0.)) + ", " +
                 std::to_string(increment) + " increments, " + std::to_string(total_iterations) +

@@ -1,0 +1,58 @@
+#include "core/interrupt.h"
+
+#include <csignal>
+
+namespace granflow::interrupt
+{
+  namespace
+  {
+    volatile std::sig_atomic_t received = 0;
+
+    extern "C" void
+    handle(const int signal)
+    {
+      received = signal;
+      // The next one gets the default action: a user who presses Ctrl-C twice means it.
+      std::signal(signal, SIG_DFL);
+    }
+  } // namespace
+
+  void
+  install()
+  {
+    std::signal(SIGINT, handle);
+    std::signal(SIGTERM, handle);
+  }
+
+  bool
+  requested()
+  {
+    return received != 0;
+  }
+
+  int
+  signal_number()
+  {
+    return received;
+  }
+
+  const char *
+  signal_name()
+  {
+    switch (received)
+      {
+      case SIGINT:
+        return "SIGINT";
+      case SIGTERM:
+        return "SIGTERM";
+      default:
+        return "a signal";
+      }
+  }
+
+  void
+  reset()
+  {
+    received = 0;
+  }
+} // namespace granflow::interrupt
