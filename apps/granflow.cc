@@ -125,6 +125,11 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
     granflow::interrupt::install();
     const auto summary = granflow::run_case(request);
     const std::string dir = summary.value("output_directory", std::string());
+    if (request.quiet)
+      {
+        std::cout << "Results in " << dir << '\n';
+        return 0;
+      }
     std::cout << "\nDone. Results in " << dir << ":\n";
     if (std::filesystem::exists(std::filesystem::path(dir) / "solution.pvd"))
       std::cout << "  " << dir << "/solution.pvd       open with: paraview " << dir

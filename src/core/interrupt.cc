@@ -49,10 +49,4 @@ namespace granflow::interrupt
         return "a signal";
       }
   }
-
-  void
-  reset()
-  {
-    received = 0;
-  }
 } // namespace granflow::interrupt

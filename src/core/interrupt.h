@@ -22,8 +22,4 @@ namespace granflow::interrupt
   /// "SIGINT", "SIGTERM" or "signal N".
   const char *
   signal_name();
-
-  /// Forgets a request (tests).
-  void
-  reset();
 } // namespace granflow::interrupt
