@@ -178,9 +178,9 @@ namespace granflow
   }
 
   void
-  parse_case_file(dealii::ParameterHandler    &prm,
-                  const std::string           &case_file,
-                  const std::vector<Override> &overrides)
+  parse_case_file(dealii::ParameterHandler &prm, const std::string &case_file,
+                  const std::vector<Override>    &overrides,
+                  const std::vector<std::string> &path_entries)
   {
     require_readable(case_file);
     try
@@ -190,6 +190,18 @@ namespace granflow
     catch (const dealii::ExceptionBase &e)
       {
         throw InputError(case_file + ": " + readable(one_line(e)));
+      }
+    const std::filesystem::path case_directory = std::filesystem::path(case_file).parent_path();
+    for (const std::string &entry : path_entries)
+      {
+        const std::vector<std::string> path = split_list(entry, '/');
+        for (std::size_t i = 0; i + 1 < path.size(); ++i)
+          prm.enter_subsection(path[i]);
+        const std::filesystem::path value = prm.get(path.back());
+        if (!value.empty() && value.is_relative() && !case_directory.empty())
+          prm.set(path.back(), (case_directory / value).lexically_normal().string());
+        for (std::size_t i = 0; i + 1 < path.size(); ++i)
+          prm.leave_subsection();
       }
     for (const Override &o : overrides)
       {

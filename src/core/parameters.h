@@ -58,9 +58,13 @@ namespace granflow
 
   /// Parses `case_file` into `prm` (whose entries are already declared), then applies the
   /// overrides. Unknown entries, values outside their range and unreadable files end in InputError.
+  /// `path_entries` ("Section/key") hold file names: a relative one written in the case file is
+  /// taken relative to the case file's directory (the case and its mesh travel together); one given
+  /// with --set stays relative to the current directory, as on any command line.
   void
   parse_case_file(dealii::ParameterHandler &prm, const std::string &case_file,
-                  const std::vector<Override> &overrides);
+                  const std::vector<Override>    &overrides,
+                  const std::vector<std::string> &path_entries = {});
 
   /// Re-throws `e`; if it is about an entry that an override set, it names that
   /// `--set Section/key=value` instead of the case file, which does not hold the value.
@@ -75,7 +79,7 @@ namespace granflow
             const std::string &case_file, const std::vector<Override> &overrides)
   {
     parameters.declare(prm);
-    parse_case_file(prm, case_file, overrides);
+    parse_case_file(prm, case_file, overrides, ModelParameters::path_entries());
     parameters.case_file = case_file;
     parameters.validate();
   }

@@ -50,6 +50,14 @@ if [ ! -e out/solution.pvd ] && [ ! -e out/solution-0000.vtu ] && [ -s out/summa
   echo "ok   rerun replaces the earlier run's files"; passes=$((passes + 1))
 else echo "FAIL rerun left stale solution files or removed a user's file"; ls out; failures=$((failures + 1)); fi
 
+# A user mesh named in a case file is found beside the case file, wherever granflow runs; one
+# given with --set is relative to the current directory. (The mesh is the one the run above wrote.)
+mkdir -p mycase && cp out/mesh.msh mycase/channel.msh
+sed -e 's/set Shape = channel/set Shape = file\n  set Mesh file = channel.msh/' "$case_file" >mycase/mine.prm
+check mesh-file-beside-case 0 "Results in user_mesh" "$GRANFLOW" run mycase/mine.prm --output user_mesh --quiet
+check mesh-file-set-is-cwd-relative 0 "Results in user_mesh2" "$GRANFLOW" run mycase/mine.prm --output user_mesh2 \
+  --quiet --set "Geometry/Mesh file=mycase/channel.msh"
+
 # The silo of Table 2 on its default mesh: the interior point reaches the case's 1e-6 (exit 0; an
 # unconverged solve would exit 3).
 check silo-interior-point 0 "Results in silo" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \

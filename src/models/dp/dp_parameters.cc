@@ -39,7 +39,7 @@ namespace granflow::dp
       prm.add_parameter(
           "Mesh file", g.mesh_file,
           "Gmsh .msh file with named physical curves (Shape = file); a relative path is "
-          "read from the directory granflow runs in, not the case file's.",
+          "relative to the case file's directory (given with --set: to the current directory).",
           Anything());
       prm.add_parameter("Mesh size", g.mesh_size, "Target element size h (units of L), > 0.",
                         Interval::positive());

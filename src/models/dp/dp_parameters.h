@@ -90,6 +90,12 @@ namespace granflow::dp
 
     void
     declare(dealii::ParameterHandler &prm);
+    /// Entries holding a file name, relative to the case file's directory (parse_case_file).
+    static std::vector<std::string>
+    path_entries()
+    {
+      return {"Geometry/Mesh file"};
+    }
     /// Checks what the patterns cannot (strict positivity, consistency); throws InputError.
     void
     validate() const;

@@ -91,6 +91,12 @@ namespace granflow::ngf
 
     void
     declare(dealii::ParameterHandler &prm);
+    /// Entries holding a file name (parse_case_file): none.
+    static std::vector<std::string>
+    path_entries()
+    {
+      return {};
+    }
     /// Checks what the patterns cannot; throws InputError naming the file and the entry.
     void
     validate() const;
