@@ -21,9 +21,12 @@
 #include <gmsh.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <sstream>
 #include <unordered_map>
 #include <utility>
@@ -185,10 +188,19 @@ namespace granflow::geometry
       gmsh::model::mesh::getElementsByType(gmsh_triangle, triangle_tags, triangle_nodes, -1);
       if (triangle_tags.empty())
         throw error("contains no triangles");
+      // MSH 2 writes a triangle once for every physical surface it belongs to (a sub-region tagged
+      // for post-processing, say): the copies would be cells of their own, and the faces between
+      // them would no longer be boundary. A triangle is kept once, whatever its groups.
       std::vector<dealii::CellData<2>> cells;
       cells.reserve(triangle_tags.size());
+      std::set<std::array<std::size_t, 3>> seen;
       for (std::size_t t = 0; t < triangle_tags.size(); ++t)
         {
+          std::array<std::size_t, 3> nodes = {
+              {triangle_nodes[3 * t], triangle_nodes[3 * t + 1], triangle_nodes[3 * t + 2]}};
+          std::sort(nodes.begin(), nodes.end());
+          if (!seen.insert(nodes).second)
+            continue;
           dealii::CellData<2> cell(3);
           for (unsigned int v = 0; v < 3; ++v)
             cell.vertices[v] = add_vertex(triangle_nodes[3 * t + v]);

@@ -457,6 +457,22 @@ namespace
     expect_boundary(mesh, "lid", 1, on_y(1, 0, 1));
   }
 
+  TEST_F(Geometry, TriangleInTwoPhysicalSurfacesIsOneCell)
+  {
+    // MSH 2 writes a triangle once per physical surface: here triangle 1-2-3 is also in a tagged
+    // sub-region "lower". Read as two cells, the copies would hide the boundary edges 1-2 and 2-3
+    // between them (the wall would lose them), and the area would be 1.5.
+    write_unit_square_msh2(path("sub.msh"),
+                           "4\n1 1 \"wall\"\n1 2 \"lid\"\n2 3 \"domain\"\n2 4 \"lower\"\n",
+                           "7\n" + square_lines + square_triangles + "7 2 2 4 21 1 2 3\n");
+    Mesh mesh;
+    granflow::geometry::read_mesh_file(mesh, path("sub.msh"), "case.prm");
+    EXPECT_EQ(mesh.triangulation.n_active_cells(), 2u);
+    expect_area(mesh, 1);
+    expect_boundary(mesh, "wall", 3,
+                    [](const Point<2> &p) { return p[0] == 0 || p[0] == 1 || p[1] == 0; });
+  }
+
   TEST_F(Geometry, RoundTripThroughTheWrittenFile)
   {
     Mesh generated, read;
