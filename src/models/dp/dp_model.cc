@@ -12,6 +12,7 @@
 #include "solvers/cone_problem.h"
 
 #include <deal.II/base/quadrature_lib.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -28,6 +29,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 
 namespace granflow::dp
@@ -81,6 +83,8 @@ namespace granflow::dp
       void
       setup();
       void
+      require_no_free_rigid_motion() const;
+      void
       assemble_velocity_operator(const std::vector<double> &eta);
       void
       assemble_constraint_operator();
@@ -122,6 +126,89 @@ namespace granflow::dp
       nlohmann::json           timings = nlohmann::json::object();
       nlohmann::json           solver_json;
     };
+
+    /// A (25a) vanishes on rigid motions (D(u) = 0), so the velocity conditions must leave none
+    /// free on any piece of the mesh; else A is singular, and a Cholesky factorisation in floating
+    /// point need not notice (tiny positive pivots): the velocity would come out as 1e14 with a
+    /// "converged" residual. On each edge-connected piece, the rigid motions u = (a - w y, b + w x)
+    /// that vanish at the constrained dofs are the kernel of the rows (1, 0, -y) for an x-dof and
+    /// (0, 1, x) for a y-dof (coordinates centred and scaled on the piece): their Gram matrix must
+    /// be regular.
+    void
+    Problem::require_no_free_rigid_motion() const
+    {
+      std::map<types::global_dof_index, Point<dim>> support;
+      DoFTools::map_dofs_to_support_points(mapping, dof_u, support);
+      std::vector<int>                     piece(mesh.triangulation.n_active_cells(), -1);
+      int                                  n_pieces = 0;
+      std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell());
+      for (const auto &seed : dof_u.active_cell_iterators())
+        {
+          if (piece[seed->active_cell_index()] >= 0)
+            continue;
+          // The piece of `seed`: its cells, their constrained dofs, a centre and a size.
+          std::vector<typename DoFHandler<dim>::active_cell_iterator> stack{seed}, cells;
+          piece[seed->active_cell_index()] = n_pieces++;
+          while (!stack.empty())
+            {
+              const auto cell = stack.back();
+              stack.pop_back();
+              cells.push_back(cell);
+              for (const unsigned int f : cell->face_indices())
+                if (!cell->at_boundary(f) && piece[cell->neighbor(f)->active_cell_index()] < 0)
+                  {
+                    piece[cell->neighbor(f)->active_cell_index()] =
+                        piece[seed->active_cell_index()];
+                    stack.push_back(cell->neighbor(f));
+                  }
+            }
+          Point<dim> centre;
+          double     size = 0.;
+          for (const auto &cell : cells)
+            centre += cell->center() / static_cast<double>(cells.size());
+          for (const auto &cell : cells)
+            for (const unsigned int v : cell->vertex_indices())
+              size = std::max(size, cell->vertex(v).distance(centre));
+          SymmetricTensor<2, 3>             gram;
+          std::set<types::global_dof_index> seen;
+          for (const auto &cell : cells)
+            {
+              cell->get_dof_indices(dofs);
+              for (unsigned int i = 0; i < dofs.size(); ++i)
+                if (dirichlet.count(dofs[i]) && seen.insert(dofs[i]).second)
+                  {
+                    const Tensor<1, dim> x   = (support.at(dofs[i]) - centre) / size;
+                    const Tensor<1, 3>   row = fe_u.system_to_component_index(i).first == 0
+                                                   ? Tensor<1, 3>({1., 0., -x[1]})
+                                                   : Tensor<1, 3>({0., 1., x[0]});
+                    gram += symmetrize(outer_product(row, row));
+                  }
+            }
+          const auto modes = eigenvectors(gram); // descending: modes.back() is the least fixed
+          if (modes.back().first > 1e-10 * std::max(trace(gram), 1.))
+            continue;
+          Tensor<1, 3> m = modes.back().second;
+          if (std::abs(m[0]) >= std::abs(m[1]) ? m[0] < 0. : m[1] < 0.)
+            m *= -1.;
+          std::ostringstream what;
+          if (trace(gram) == 0.)
+            what << "no velocity condition applies";
+          else if (std::abs(m[2]) > std::hypot(m[0], m[1]))
+            what << "the velocity can still rotate";
+          else
+            what << "the velocity can still translate along (" << m[0] / std::hypot(m[0], m[1])
+                 << ", " << m[1] / std::hypot(m[0], m[1]) << ")";
+          std::ostringstream where;
+          if (cells.size() < mesh.triangulation.n_active_cells())
+            where << " on the part of the mesh around (" << centre[0] << ", " << centre[1] << ") ("
+                  << cells.size() << " of " << mesh.triangulation.n_active_cells()
+                  << " triangles, joined to the rest by no edge)";
+          throw InputError(prm.case_file, "Boundary conditions/No-slip",
+                           "with Zero x-velocity and Zero y-velocity: " + what.str() + where.str() +
+                               " (A is singular): expected velocity conditions that fix both "
+                               "translations and the rotation of every part of the mesh");
+        }
+    }
 
     /// Daviet (25a): a(u, v) = 2/Re int eta (D0(u):D0(v) + b/d div u div v), l(v) = int e_g . v
     /// + int_{B_N} sigma_ext n . v. A is kept on the free dofs; the Dirichlet lifting moves to l.
@@ -380,6 +467,7 @@ namespace granflow::dp
                          "is empty, as are Zero x-velocity and Zero y-velocity: expected at least "
                          "one boundary with a velocity condition (else the velocity is fixed only "
                          "up to a rigid motion)");
+      require_no_free_rigid_motion();
       // Every named boundary of the load must exist too (checked before anything is solved).
       for (const auto &[name, p] :
            parse_named_values(bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
