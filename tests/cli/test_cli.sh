@@ -42,6 +42,17 @@ for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.c
   else echo "FAIL output $f missing"; failures=$((failures + 1)); fi
 done
 
+# The VTU's zone is 0, 1 or 2 on every triangle, and its norms are not negative (P1d point values
+# extrapolated to the vertices gave zones of -0.67 to 2.67 and negative |tau|).
+if /usr/bin/python3 - out/solution-0000.vtu <<'PY'
+import sys, meshio, numpy as np
+d = meshio.read(sys.argv[1]).point_data
+assert set(np.unique(d["zone"])) <= {0.0, 1.0, 2.0}, np.unique(d["zone"])
+for name in ("tau_norm", "D0_norm", "residual"):
+    assert d[name].min() >= 0.0, (name, d[name].min())
+PY
+then echo "ok   vtu zone and norms"; passes=$((passes + 1)); else echo "FAIL vtu zone and norms"; failures=$((failures + 1)); fi
+
 # A rerun without VTU output into the same directory removes the earlier run's solution files
 # (they would belong to another run) and keeps files a user put there.
 echo "mine" >out/notes.txt

@@ -119,6 +119,7 @@ namespace granflow::dp
       std::vector<Point<dim>>                   point_location;
       // Fields on the stress space (P1d or P1), one per quantity, for output and boundary integrals.
       std::map<std::string, Vector<double>>     stress_fields;
+      Vector<double>                            cell_zone; // 0 rigid, 1 flowing, 2 dilating
 
       solvers::ConeProblemData data;
       solvers::ConeSolution    solution;
@@ -697,9 +698,9 @@ namespace granflow::dp
     Problem::postprocess(Results &results)
     {
       const double sqrt_2_over_d = std::sqrt(2. / dim); // p = sqrt(2/d) lambda_N (Property 2)
-      std::vector<double> p(n_points), tau_xx(n_points), tau_xy(n_points), tau_norm(n_points),
-        lambda_N(n_points), lambda_1(n_points), lambda_2(n_points), D0_norm(n_points), div_u(n_points),
-        zone(n_points), residual(n_points);
+      std::vector<double> p(n_points), tau_xx(n_points), tau_xy(n_points), lambda_N(n_points),
+          lambda_1(n_points), lambda_2(n_points), D0_1(n_points), D0_2(n_points), D0_norm(n_points),
+          div_u(n_points), zone(n_points), residual(n_points);
       double max_D0 = 0., max_div = 0.;
       for (std::size_t i = 0; i < n_points; ++i)
         {
@@ -711,8 +712,9 @@ namespace granflow::dp
           p[i]        = sqrt_2_over_d * l[0];
           tau_xx[i]   = -l[1]; // tau = -Dev(lambda), chi(0; b, c) = [[b, c], [c, -b]]
           tau_xy[i]   = -l[2];
-          tau_norm[i] = std::hypot(l[1], l[2]);
-          D0_norm[i]  = std::hypot(g[1], g[2]) / w;
+          D0_1[i]         = g[1] / w;
+          D0_2[i]         = g[2] / w;
+          D0_norm[i]      = std::hypot(D0_1[i], D0_2[i]);
           div_u[i]    = std::sqrt(2. * dim) * g[0] / w;
           max_D0      = std::max(max_D0, D0_norm[i]);
           // Where the solver's residual is largest (the rheology is violated by this much).
@@ -739,32 +741,57 @@ namespace granflow::dp
             zone[i] = 1, ++n_flowing;
         }
 
-      // Point values -> stress-space fields (P1d: the linear function through the 3 points).
-      const auto to_field = [&](const std::vector<double> &values) {
+      // Point values -> stress-space fields. P1d: a quantity linear in lambda or D(u) is the linear
+      // function through the 3 points (the discrete stress and strain rate themselves, whose
+      // vertex values may leave the cone: only the points are constrained); a norm is taken of
+      // those vertex values, not extrapolated (which made it negative); the residual
+      // is the value of the point nearest each vertex (point k sits on the median from vertex k,
+      // constraint_rule()). The zone is one value per triangle, that of two or three of its
+      // points (flowing if all three differ), so that it stays 0, 1 or 2 in the VTU.
+      std::vector<types::global_dof_index> sdofs(fe_s.n_dofs_per_cell());
+      const auto to_field = [&](const std::vector<double> &values, const bool linear) {
         Vector<double> field(dof_s.n_dofs());
         if (!p1d)
           {
             std::copy(values.begin(), values.end(), field.begin());
             return field;
           }
-        std::vector<types::global_dof_index> sdofs(fe_s.n_dofs_per_cell());
         for (const auto &cell : dof_s.active_cell_iterators())
           {
             cell->get_dof_indices(sdofs);
-            const std::size_t base = cell->active_cell_index() * 3;
-            const auto        v =
-                vertex_values_from_points({{values[base], values[base + 1], values[base + 2]}});
+            const std::size_t           base = cell->active_cell_index() * 3;
+            const std::array<double, 3> at_points{
+                {values[base], values[base + 1], values[base + 2]}};
+            const std::array<double, 3> v =
+                linear ? vertex_values_from_points(at_points) : at_points;
             for (unsigned int k = 0; k < 3; ++k)
               field[sdofs[k]] = v[k];
           }
         return field;
       };
-      stress_fields = {{"pressure", to_field(p)},       {"tau_xx", to_field(tau_xx)},
-                       {"tau_xy", to_field(tau_xy)},     {"tau_norm", to_field(tau_norm)},
-                       {"D0_norm", to_field(D0_norm)},   {"div_u", to_field(div_u)},
-                       {"zone", to_field(zone)},         {"lambda_N", to_field(lambda_N)},
-                       {"lambda_1", to_field(lambda_1)}, {"lambda_2", to_field(lambda_2)},
-                       {"residual", to_field(residual)}};
+      const auto norm_of = [](const Vector<double> &a, const Vector<double> &b) {
+        Vector<double> n(a.size());
+        for (unsigned int i = 0; i < a.size(); ++i)
+          n[i] = std::hypot(a[i], b[i]);
+        return n;
+      };
+      stress_fields = {
+          {"pressure", to_field(p, true)},        {"tau_xx", to_field(tau_xx, true)},
+          {"tau_xy", to_field(tau_xy, true)},     {"div_u", to_field(div_u, true)},
+          {"lambda_N", to_field(lambda_N, true)}, {"lambda_1", to_field(lambda_1, true)},
+          {"lambda_2", to_field(lambda_2, true)}, {"residual", to_field(residual, false)}};
+      stress_fields["tau_norm"] = norm_of(stress_fields["tau_xx"], stress_fields["tau_xy"]);
+      stress_fields["D0_norm"]  = norm_of(to_field(D0_1, true), to_field(D0_2, true));
+      cell_zone.reinit(mesh.triangulation.n_active_cells());
+      for (const auto &cell : dof_s.active_cell_iterators())
+        {
+          cell->get_dof_indices(sdofs);
+          std::array<int, 3> count{{0, 0, 0}};
+          for (unsigned int k = 0; k < 3; ++k)
+            ++count[static_cast<int>(zone[p1d ? cell->active_cell_index() * 3 + k : sdofs[k]])];
+          const auto most                      = std::max_element(count.begin(), count.end());
+          cell_zone[cell->active_cell_index()] = *most >= 2 ? most - count.begin() : 1;
+        }
 
       nlohmann::json &S = results.summary;
       S["case"]         = prm.name;
@@ -957,6 +984,7 @@ namespace granflow::dp
       const std::vector<DataComponentInterpretation::DataComponentInterpretation> vector_part(
         dim, DataComponentInterpretation::component_is_part_of_vector);
       data_out.add_data_vector(dof_u, u, names, vector_part);
+      data_out.add_data_vector(cell_zone, "zone", DataOut<dim>::type_cell_data);
       for (const auto &[name, field] : stress_fields)
         if (name.rfind("lambda_", 0) != 0)
           data_out.add_data_vector(dof_s, field, name);
