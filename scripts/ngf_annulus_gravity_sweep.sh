@@ -9,7 +9,7 @@
 #    OUT/annulus_gravity_surface.png (linear axes and log y);
 #  - (R, Z) fields at R_i Omega / sqrt(G d) = 1e-3 (rate-independent row of Fig. 6):
 #    OUT/annulus_gravity_fields_rate1e-3.png plus one PNG per
-#    field, OUT/annulus_gravity_field_{v_over_v_wall,p_over_reference_pressure,mu}.png.
+#    field, OUT/annulus_gravity_field_{v_over_v_wall,p_over_phi_rho_s_G_H,mu}.png.
 # Columns of the rate CSV: W_over_d = distance from the inner wall at which v/v_wall = 1/e on the
 # surface, increments and newton_iterations_per_increment from summary.json, time_s = total run
 # time, converged = summary.json 'converged', mu_wall_change_last_0p5d = relative change of mu_wall
@@ -132,7 +132,7 @@ tris = np.vstack([quads[:, [0, 1, 2]], quads[:, [0, 2, 3]]])
 d = 1e-3  # grain diameter [m] of the case file; mesh coordinates are in metres
 pts = mesh.points[:, :2] / d
 tri = mtri.Triangulation(pts[:, 0], pts[:, 1], tris)
-fields = [("v_over_v_wall", "v / (R_i Omega)"), ("p_over_reference_pressure", "p / (phi rho_s G H)"), ("mu", "mu")]
+fields = [("v_over_v_wall", "v / (R_i Omega)"), ("p_over_phi_rho_s_G_H", "p / (phi rho_s G H)"), ("mu", "mu")]
 
 def draw(ax, field, label):
     # Fields written per quad (cell data, or point data that is constant on each quad because the

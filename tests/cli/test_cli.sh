@@ -228,6 +228,10 @@ ngf_bad too-many-elements "at most 1e6" --set "Geometry/Depth=1e300"
 ngf_bad tolerance-too-loose "Solver/Tolerance" --set "Solver/Tolerance=0.5"
 ngf_bad first-increment-above-max "Solver/First increment" --set "Solver/First increment=1"
 ngf_bad blames-the-set "--set Material/mu_s=0" --set "Material/mu_s=0"
+# An entry the shape ignores is refused (the annulus row's pressure is its Confining pressure).
+ngf_bad entry-the-shape-ignores "does not apply to Geometry/Shape = shear column" --set "Loading/Wall rotation=40"
+check ngf-entry-the-annulus-row-ignores 2 "the annulus row's entry is Loading/Confining pressure" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet --set "Loading/Wall pressure=50"
 check ngf-inner-radius-huge 2 "Inner radius" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
   --output keep --quiet --set "Geometry/Inner radius=1e20"
 check ngf-element-too-large 2 "Geometry/Element size" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
@@ -239,6 +243,12 @@ for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.c
   if [ -s "ngf_out/$f" ]; then echo "ok   ngf output $f"; passes=$((passes + 1));
   else echo "FAIL ngf output $f missing"; failures=$((failures + 1)); fi
 done
+# A run too short to yield ends normally but says it is not steady (summary.json and a warning).
+check ngf-not-steady 0 "warning: not steady over the last tenth of the run" "$GRANFLOW" run "$ngf_case" \
+  --output ngf_short --set "Loading/Wall displacement=1e-4"
+if grep -q '"steady": false' ngf_short/summary.json && grep -q "not steady" ngf_short/summary.json; then
+  echo "ok   ngf not-steady in summary"; passes=$((passes + 1))
+else echo "FAIL ngf not-steady verdict missing from summary.json"; failures=$((failures + 1)); fi
 check ngf-not-converged 3 "written to" "$GRANFLOW" run "$ngf_case" --output ngf_nc --quiet \
   --set "Solver/Max Newton iterations=1" --set "Solver/Tolerance=1e-14"
 if grep -qF "best iterate of the last attempt: iteration" err.txt; then echo "ok   ngf not-converged names its residuals"; passes=$((passes + 1));

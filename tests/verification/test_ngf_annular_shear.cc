@@ -67,6 +67,8 @@ namespace
 
     test::expect_matches_reference(summary, dir, reference_solution(parameters, c.R_i, c.rate),
                                    parameters.material.nonlocal.d);
+    EXPECT_TRUE(summary["steady_state"]["steady"].get<bool>()) << summary["steady_state"].dump();
+    EXPECT_TRUE(summary["warnings"].empty()) << summary["warnings"].dump();
   }
 
   // The FE's mu_wall is the wall's shear stress over the applied P_wall (the paper's definition,

@@ -108,6 +108,23 @@ namespace granflow::ngf
       assemble(double dt, bool with_jacobian);
       bool
       newton(double dt, unsigned int increment, unsigned int &iterations);
+      /// Logs "ngf: warning: `text`" and keeps it for summary.json's "warnings".
+      void
+      warn(const std::string &text)
+      {
+        log.print("ngf: warning: " + text + "\n");
+        warnings.push_back(text);
+      }
+      std::vector<std::string> warnings;
+
+      /// Name of p / scale.P_wall in the VTU and stress.csv: P_wall for the column and the annulus
+      /// row, the hydrostatic pressure at the floor phi rho_s G H for the annulus (Fig. 6).
+      std::string
+      pressure_name() const
+      {
+        return column || prm.geometry.shape == "annulus row" ? "p_over_P_wall"
+                                                             : "p_over_phi_rho_s_G_H";
+      }
       /// mu_wall from the reactions where the wall motion is prescribed (Henann 6.1, 6.2).
       double
       wall_stress_ratio() const;
@@ -772,11 +789,11 @@ namespace granflow::ngf
         if (strain > 0.01)
           {
             std::ostringstream w;
-            w << std::setprecision(3) << "ngf: warning: the largest pressure, about " << p_max
-              << " Pa, is " << strain
+            w << std::setprecision(3) << "the largest pressure, about " << p_max << " Pa, is "
+              << strain
               << " times the smaller elastic modulus: elastic strains that large are outside the "
-                 "model's intended range (Henann 6: about 1e-4)\n";
-            log.print(w.str());
+                 "model's intended range (Henann 6: about 1e-4)";
+            warn(w.str());
           }
       }
       log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
@@ -786,17 +803,28 @@ namespace granflow::ngf
       // Increment 0 loads the body (gravity, wall pressure) with the wall at rest; then the wall
       // moves at v_wall. Increments adapt to the Newton iteration count.
       double                    du     = prm.solver.first_increment * d;
-      double                    u_wall = 0., mu_wall = 0., mu_wall_previous = 0.;
+      double                    u_wall = 0., mu_wall = 0.;
       unsigned int              increment = 0, total_iterations = 0, cuts = 0, max_iterations = 0;
-      Vector<double>            rate(U.size()), v(U.size()), v_previous(U.size());
+      Vector<double>            rate(U.size()), v(U.size());
       AffineConstraints<double> step_constraints;
       bool                      loading = true;
       std::string               failure;                // set when an increment cannot be completed
       bool                      interrupted = false; // failure: a stop request (core/interrupt.h)
-      std::vector<double> h_disp, h_mu, h_iter, h_vmax; // per increment: the history.csv columns
+      // Steadiness is judged over the last tenth of the run: mu_wall and v there and at the end.
+      constexpr double steady_window = 0.1, steady_mu_tolerance = 1e-3,
+                       steady_velocity_tolerance = 1e-2;
+      double              u_wall_window = -1., mu_wall_window = 0.;
+      Vector<double>      v_window;
+      std::vector<double> h_disp, h_mu, h_iter; // per increment: the history.csv columns
       while (loading || u_wall < scale.u_end * (1. - 1e-12))
         {
-          const double step = loading ? 0. : std::min(du, scale.u_end - u_wall);
+          // The last two increments share what is left when it is between 1 and 1.5 increments:
+          // a sliver at the end would move mu_wall by the increment-size dependence of the time
+          // integration (0.1 % between 0.005 d and 0.0025 d increments in the column).
+          const double remaining = scale.u_end - u_wall;
+          const double step      = loading                                  ? 0.
+                                   : remaining > du && remaining < 1.5 * du ? 0.5 * remaining
+                                                                            : std::min(du, remaining);
           const double dt   = (loading ? du : step) / scale.v_wall;
           // Predictor: continue the last increment's motion (the steady flow is then almost exact).
           // The slice turns about z, so its x and y rates are kept as (dr/dt, dphi/dt) of each
@@ -825,8 +853,13 @@ namespace granflow::ngf
               if (du < 1e-6 * prm.solver.first_increment * d)
                 {
                   std::ostringstream s;
-                  s << "Newton did not converge at wall displacement " << u_wall / d
-                    << " d even with an increment of " << du / d << " d";
+                  if (loading)
+                    s << "Newton did not converge in the loading step (increment 0: gravity and "
+                         "wall pressure applied with the wall at rest), even over a time step of "
+                      << dt << " s";
+                  else
+                    s << "Newton did not converge at wall displacement " << u_wall / d
+                      << " d even with an increment of " << du / d << " d";
                   // The last attempt's best iterate (least max(R_u, R_g)): below 1e-6 (the
                   // default tolerance) but not below a tighter one, its residuals may be at their
                   // round-off floor (about 5e-14 for R_u while the total deformation is small, more
@@ -864,7 +897,6 @@ namespace granflow::ngf
               Fp_n[c][q] = points[c][q].Fp;
           if (!loading)
             {
-              v_previous = v;
               v          = velocity(dt);
               rate       = U;
               rate -= U_n;
@@ -883,16 +915,17 @@ namespace granflow::ngf
                           std::remainder(std::atan2(y1, x1) - std::atan2(y0, x0), 2. * M_PI) / dt;
                     }
               u_wall += step;
-              mu_wall_previous = mu_wall;
-              mu_wall          = wall_stress_ratio();
-              double v_max     = 0.;
-              for (types::global_dof_index i = 0; i < v.size(); ++i)
-                if ((slice ? dof_component[i] < 2 : dof_component[i] == (column ? 0U : twist)))
-                  v_max = std::max(v_max, std::abs(v[i]));
+              mu_wall = wall_stress_ratio();
+              // The state at the start of the last tenth of the run, for the steadiness verdict.
+              if (u_wall_window < 0. && u_wall >= (1. - steady_window) * scale.u_end)
+                {
+                  u_wall_window  = u_wall;
+                  mu_wall_window = mu_wall;
+                  v_window       = v;
+                }
               h_disp.push_back(u_wall / d);
               h_mu.push_back(mu_wall);
               h_iter.push_back(iterations);
-              h_vmax.push_back(v_max / scale.v_wall);
             }
           U_n = U;
           total_iterations += iterations;
@@ -945,14 +978,41 @@ namespace granflow::ngf
            {"iterations_per_increment", double(total_iterations) / std::max(1U, increment)},
            {"max_iterations", max_iterations},
            {"increment_cuts", cuts}};
-      // Steadiness over the last increment: change of mu_wall and of the wall-parallel velocity.
-      double dv = 0.;
-      for (types::global_dof_index i = 0; i < v.size(); ++i)
-        if ((slice ? dof_component[i] < 2 : dof_component[i] == (column ? 0U : twist)))
-          dv = std::max(dv, std::abs(v[i] - v_previous[i]) / scale.v_wall);
-      summary["steady_state"] = {
-          {"mu_wall_change_last_increment", std::abs(mu_wall - mu_wall_previous)},
-          {"velocity_change_last_increment", dv}};
+      // Steadiness over the last tenth of the run (the issue's "run until the velocity field and
+      // the wall stress ratio are steady"): the relative change of mu_wall and the largest change
+      // of the wall-parallel velocity, over v_wall. While the body is still loading elastically,
+      // mu_wall grows in proportion to the wall displacement, so the first test catches runs that
+      // are too short to yield.
+      nlohmann::json steady = {{"window_over_d", 0.}, {"steady", false}};
+      if (u_wall_window >= 0. && u_wall > u_wall_window)
+        {
+          double dv = 0.;
+          for (types::global_dof_index i = 0; i < v.size(); ++i)
+            if ((slice ? dof_component[i] < 2 : dof_component[i] == (column ? 0U : twist)))
+              dv = std::max(dv, std::abs(v[i] - v_window[i]) / scale.v_wall);
+          const double dmu = std::abs(mu_wall - mu_wall_window) / std::abs(mu_wall);
+          steady           = {{"window_over_d", (u_wall - u_wall_window) / d},
+                              {"mu_wall_relative_change", dmu},
+                              {"velocity_change_over_v_wall", dv},
+                              {"steady", dmu <= steady_mu_tolerance && dv <= steady_velocity_tolerance}};
+        }
+      summary["steady_state"] = steady;
+      if (failure.empty() && !steady["steady"].get<bool>())
+        warn("not steady over the last tenth of the run (" + steady.dump() +
+             "): run further (Loading/Wall displacement or Wall rotation) before using mu_wall, "
+             "W/d or the profiles as steady results");
+      // Steady flow starts where mu >= mu_s (g_loc = 0 below it, (22)), and mu is largest at the
+      // driven wall in every geometry here: below mu_s there, the mesh does not resolve the flow
+      // at the wall (g = 0 there on coarse meshes, docs/ngf.md) or the body has not yielded.
+      if (failure.empty() && mu_wall < prm.material.nonlocal.mu_s)
+        {
+          std::ostringstream w;
+          w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
+            << " at the driven wall: a steady flow needs mu >= mu_s where it starts, so either the "
+               "body has not yielded or the mesh does not resolve the flow at the wall (a g = 0 "
+               "wall needs h well below d, docs/ngf.md): refine Geometry/Element size";
+          warn(w.str());
+        }
       postprocess(summary, v);
       if (prm.output.write_vtu)
         write_vtu(v);
@@ -966,16 +1026,15 @@ namespace granflow::ngf
           cu.push_back(r.dU_u);
           cg.push_back(r.dU_g);
         }
-      out.write_csv(
-          "history.csv",
-          {"wall_displacement_over_d", "mu_wall", "newton_iterations", "max_v_over_v_wall"},
-          {h_disp, h_mu, h_iter, h_vmax});
+      out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations"},
+                    {h_disp, h_mu, h_iter});
       out.write_csv("newton.csv",
                     {"increment", "iteration", "R_u", "R_g", "correction_u", "correction_g"},
                     {inc, it, ru, rg, cu, cg});
       summary["timings"]                  = {{"total_s", log.elapsed()},
                                              {"assembly_s", assembly_seconds},
                                              {"linear_solve_s", solve_seconds}};
+      summary["warnings"]                 = warnings;
       summary["converged"]                = failure.empty();
       summary["interrupted"]              = interrupted;
       summary["wall_displacement_over_d"] = u_wall / d;
@@ -990,7 +1049,7 @@ namespace granflow::ngf
           throw ConvergenceError(message);
         }
       log.print("ngf: mu_wall = " + std::to_string(mu_wall) +
-                ", W/d = " + std::to_string(summary.value("shear_band_width_over_d", 0.)) + ", " +
+                ", W/d = " + summary["shear_band_width_over_d"].dump() + ", " +
                 std::to_string(increment) + " increments, " + std::to_string(total_iterations) +
                 " Newton iterations, " + std::to_string(log.elapsed()) + " s\n");
       return {summary};
@@ -1100,15 +1159,24 @@ namespace granflow::ngf
           g.push_back(node.g / g_unit);
           u.push_back(node.u);
         }
-      // W: the distance from the driven wall at which v has decayed to v_wall / e (Henann 6.1).
-      double W = x.back();
+      // W: the distance from the driven wall at which v has decayed to v_wall / e (Henann 6.1);
+      // undefined (null, NaN in comparisons) if it never does.
+      double W = std::numeric_limits<double>::quiet_NaN();
       for (unsigned int i = 1; i < x.size(); ++i)
         if (vel[i] <= std::exp(-1.) && vel[i - 1] > std::exp(-1.))
           {
             W = x[i - 1] + (x[i] - x[i - 1]) * (vel[i - 1] - std::exp(-1.)) / (vel[i - 1] - vel[i]);
             break;
           }
-      summary["shear_band_width_over_d"] = W;
+      if (std::isnan(W))
+        {
+          warn("the velocity does not decay to v_wall / e across the domain: no shear band, "
+               "shear_band_width_over_d is null (the body still loading elastically, or a band "
+               "wider than the domain)");
+          summary["shear_band_width_over_d"] = nullptr;
+        }
+      else
+        summary["shear_band_width_over_d"] = W;
 
       std::vector<std::string> header = {
           column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
@@ -1167,7 +1235,7 @@ namespace granflow::ngf
           p.push_back(pp / scale.P_wall);
           gloc.push_back(gl / g_unit);
         }
-      out.write_csv("profiles/stress.csv", {header[0], "mu", "p_over_P_wall", "g_loc_scaled"},
+      out.write_csv("profiles/stress.csv", {header[0], "mu", pressure_name(), "g_loc_scaled"},
                     {xc, mu, p, gloc});
 
       // The pressure at the driven wall, extrapolated linearly from the two nearest element
@@ -1269,8 +1337,7 @@ namespace granflow::ngf
           }
       data_out.add_data_vector(mu, "mu");
       data_out.add_data_vector(p, "pressure");
-      // Fig. 6: p / (phi rho_s G H) for the annulus; p / P_wall otherwise
-      data_out.add_data_vector(p_scaled, column ? "p_over_P_wall" : "p_over_reference_pressure");
+      data_out.add_data_vector(p_scaled, pressure_name());
       data_out.add_data_vector(tau, "equivalent_shear_stress");
       data_out.add_data_vector(gamma_dot, "plastic_shear_rate");
       data_out.build_patches();

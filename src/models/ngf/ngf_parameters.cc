@@ -201,6 +201,48 @@ namespace granflow::ngf
           throw InputError(f, "Geometry/Element size", s.str());
         }
     }
+    // An entry that the shape does not use would be ignored without a word (a user varying the
+    // annulus row's "Wall pressure" got identical runs): it must keep its default.
+    {
+      const Parameters defaults;
+      const bool column = geometry.shape == "shear column", row = geometry.shape == "annulus row",
+                 slice = geometry.shape == "annulus slice", annulus = !column,
+                 gravity_annulus = geometry.shape == "annulus" || slice;
+      const struct
+      {
+        const char *entry;
+        double      value, default_value;
+        bool        used;
+        const char *instead;
+      } entries[] = {
+          {"Geometry/Depth", geometry.depth, defaults.geometry.depth, column, "Geometry/Gap"},
+          {"Geometry/Inner radius", geometry.inner_radius, defaults.geometry.inner_radius, annulus,
+           "Geometry/Depth"},
+          {"Geometry/Gap", geometry.gap, defaults.geometry.gap, annulus, "Geometry/Depth"},
+          {"Geometry/Height", geometry.height, defaults.geometry.height, gravity_annulus, nullptr},
+          {"Geometry/Slice angle", geometry.slice_angle, defaults.geometry.slice_angle, slice,
+           nullptr},
+          {"Loading/Wall pressure", loading.wall_pressure, defaults.loading.wall_pressure, column,
+           row ? "Loading/Confining pressure" : nullptr},
+          {"Loading/Confining pressure", loading.confining_pressure,
+           defaults.loading.confining_pressure, row, column ? "Loading/Wall pressure" : nullptr},
+          {"Loading/Wall displacement", loading.wall_displacement,
+           defaults.loading.wall_displacement, column, "Loading/Wall rotation"},
+          {"Loading/Wall rotation", loading.wall_rotation, defaults.loading.wall_rotation, annulus,
+           "Loading/Wall displacement"}};
+      for (const auto &e : entries)
+        if (!e.used && e.value != e.default_value)
+          {
+            std::ostringstream s;
+            s << "= " << e.value << " does not apply to Geometry/Shape = " << geometry.shape
+              << ", which would ignore it: expected the default " << e.default_value;
+            if (e.instead)
+              s << " (the " << geometry.shape << "'s entry is " << e.instead << ")";
+            else if (gravity_annulus && std::string(e.entry).find("pressure") != std::string::npos)
+              s << " (the annulus's pressure comes from gravity and Geometry/Height)";
+            throw InputError(f, e.entry, s.str());
+          }
+    }
     const double shortest = geometry.shape == "shear column" ? geometry.depth
                             : geometry.shape == "annulus row"
                                 ? geometry.gap
@@ -264,10 +306,11 @@ namespace granflow::ngf
         (solver.fluidity == "local" || !dirichlet.empty() ||
          std::any_of(neumann.begin(), neumann.end(),
                      [](const auto &item) { return item.second != 0.; })))
-      throw InputError(f, "Output/Reference",
-                       "= finite difference solves the nonlocal reduction with zeta = 0 at both "
-                       "walls, not this case (local model or fluidity boundary conditions): "
-                       "expected none");
+      throw InputError(
+          f, "Output/Reference",
+          "'finite difference' is the 1D reduction of the nonlocal model with zeta = "
+          "0 at both walls, which this case is not (Solver/Fluidity = local, or "
+          "fluidity boundary conditions): expected none (--set Output/Reference=none)");
   }
 
   std::vector<std::string>
