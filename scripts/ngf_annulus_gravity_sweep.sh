@@ -12,10 +12,10 @@
 #    field, OUT/annulus_gravity_field_{v_over_v_wall,p_over_phi_rho_s_G_H,mu}.png.
 # Columns of the rate CSV: W_over_d = distance from the inner wall at which v/v_wall = 1/e on the
 # surface, increments and newton_iterations_per_increment from summary.json, time_s = total run
-# time, converged = summary.json 'converged', mu_wall_change_last_0p5d = relative change of mu_wall
-# over the last 0.5 d of wall displacement (history.csv, final increment excluded since it is cut
-# short to land on 4 degrees), mu_wall_change_final_increment = relative change of mu_wall over that
-# final short increment, note = solver settings that differ from the case.
+# time, converged = summary.json 'converged', steady, mu_wall_change_last_tenth and
+# velocity_change_last_tenth = summary.json's steady_state (relative change of mu_wall and largest
+# change of v / v_wall over the last tenth of the run), note = solver settings that differ from the
+# case.
 # A run that fails or whose mu_wall is NaN is repeated once with 'Solver/Increment growth=1.2'.
 #   scripts/ngf_annulus_gravity_sweep.sh [GRANFLOW_BINARY] [OUT_DIR]
 set -euo pipefail
@@ -40,21 +40,15 @@ row() {
 import csv, json, math, sys
 s = json.load(open(sys.argv[1]))
 f = lambda x: "nan" if x is None else repr(float(x))
-hist = [(float(h["wall_displacement_over_d"]), float(h["mu_wall"])) for h in csv.DictReader(open(sys.argv[2]))]
-final = hist[-1]
-hist = hist[:-1]  # the final increment is cut short to land on the wall rotation
-d_end, mu_end = hist[-1]
-mu_before = min(hist, key=lambda p: abs(p[0] - (d_end - 0.5)))[1]
-rel = lambda a, b: (a - b) / a if math.isfinite(a) and math.isfinite(b) else float("nan")
-n = s["newton"]
+n, st = s["newton"], s["steady_state"]
 print(f"{sys.argv[3]},{f(s['shear_band_width_over_d'])},{f(s['mu_wall'])},{n['iterations_per_increment']},"
-      f"{n['increments']},{s['timings']['total_s']},{str(s['converged']).lower()},"
-      f"{rel(mu_end, mu_before)!r},{rel(final[1], mu_end)!r},{sys.argv[4]}")
+      f"{n['increments']},{s['timings']['total_s']},{str(s['converged']).lower()},{str(st['steady']).lower()},"
+      f"{f(st.get('mu_wall_relative_change'))},{f(st.get('velocity_change_over_v_wall'))},{sys.argv[4]}")
 PY
 }
 
 rate_csv="$out/annulus_gravity_rate.csv"
-echo "rate,W_over_d,mu_wall,newton_iterations_per_increment,increments,time_s,converged,mu_wall_change_last_0p5d,mu_wall_change_final_increment,note" >"$rate_csv"
+echo "rate,W_over_d,mu_wall,newton_iterations_per_increment,increments,time_s,converged,steady,mu_wall_change_last_tenth,velocity_change_last_tenth,note" >"$rate_csv"
 for r in 1e-5 1e-4 1e-3 1e-2 1e-1 1; do
   vtu=false
   [ "$r" = "$field_rate" ] && vtu=true

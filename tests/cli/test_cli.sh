@@ -69,6 +69,14 @@ check mesh-file-beside-case 0 "Results in user_mesh" "$GRANFLOW" run mycase/mine
 check mesh-file-set-is-cwd-relative 0 "Results in user_mesh2" "$GRANFLOW" run mycase/mine.prm --output user_mesh2 \
   --quiet --set "Geometry/Mesh file=mycase/channel.msh"
 
+# A drag boundary on a shape other than the cylinder channel gives the force on it, not the
+# cylinder's C_D and Fr (which would use Geometry/Cylinder diameter, unrelated to this mesh).
+check drag-on-other-shape 0 "Results in drag_channel" "$GRANFLOW" run "$case_file" --output drag_channel --quiet \
+  --set "Output/Drag boundary=top" --set "Output/Inflow boundary=inlet"
+if grep -q '"boundary_force"' drag_channel/summary.json && ! grep -q '"drag_coefficient"' drag_channel/summary.json &&
+  ! grep -q '"wake"' drag_channel/summary.json; then echo "ok   drag on another shape: force only"; passes=$((passes + 1));
+else echo "FAIL drag on another shape"; failures=$((failures + 1)); fi
+
 # The silo of Table 2 on its default mesh: the interior point reaches the case's 1e-6 (exit 0; an
 # unconverged solve would exit 3).
 check silo-interior-point 0 "Results in silo" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
@@ -144,6 +152,8 @@ bad rigid-motion-of-a-loose-piece "no velocity condition applies on the part of 
   --set "Geometry/Shape=file" --set "Geometry/Mesh file=two_pieces.msh" --set "Boundary conditions/No-slip=wall" \
   --set "Boundary conditions/Zero y-velocity=" --set "Output/Reference=none" --set "Output/Profile start=0, 0.5" \
   --set "Output/Profile end=1, 0.5"
+bad external-pressure-twice "names boundary 'inlet' a second time" --set "Boundary conditions/External pressure=inlet: 1, inlet: 3"
+bad external-pressure-on-no-slip "a No-slip boundary" --set "Boundary conditions/External pressure=top: 1"
 bad viscosity-tolerance-zero "Solver/Viscosity tolerance" --set "Solver/Viscosity tolerance=0"
 bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip'" --set "Boundary conditions/No-slip=bottom, lid"
 bad blames-the-set "--set Geometry/Mesh size=0" --set "Geometry/Mesh size=0"

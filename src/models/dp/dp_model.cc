@@ -470,9 +470,17 @@ namespace granflow::dp
                          "up to a rigid motion)");
       require_no_free_rigid_motion();
       // Every named boundary of the load must exist too (checked before anything is solved).
+      const auto no_slip = split_list(bc.no_slip);
       for (const auto &[name, p] :
            parse_named_values(bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
-        mesh.id(name, prm.case_file, "Boundary conditions/External pressure");
+        {
+          mesh.id(name, prm.case_file, "Boundary conditions/External pressure");
+          if (std::find(no_slip.begin(), no_slip.end(), name) != no_slip.end())
+            throw InputError(prm.case_file, "Boundary conditions/External pressure",
+                             "on '" + name +
+                                 "', a No-slip boundary, where the velocity is prescribed and a "
+                                 "traction does nothing: expected Neumann boundaries only");
+        }
       if (!prm.output.drag_boundary.empty())
         mesh.id(prm.output.drag_boundary, prm.case_file, "Output/Drag boundary");
       if (!prm.output.inflow_boundary.empty())
@@ -923,9 +931,26 @@ namespace granflow::dp
           const auto id  = mesh.id(prm.output.drag_boundary, prm.case_file);
           Vector<double> l_xx = stress_fields["lambda_N"], l_xy = stress_fields["lambda_2"];
           l_xx += stress_fields["lambda_1"];
-          const double F_D = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
-                             postprocess::boundary_flux(mapping, dof_s, l_xy, id)[1];
-          S["drag"] = F_D;
+          Vector<double> l_yy = stress_fields["lambda_N"];
+          l_yy -= stress_fields["lambda_1"];
+          const auto xx       = postprocess::boundary_flux(mapping, dof_s, l_xx, id),
+                     xy       = postprocess::boundary_flux(mapping, dof_s, l_xy, id),
+                     yy       = postprocess::boundary_flux(mapping, dof_s, l_yy, id);
+          const double F_D    = xx[0] + xy[1];
+          S["drag"]           = F_D;
+          S["boundary_force"] = {F_D, xy[0] + yy[1]}; // int lambda n
+          if (prm.geometry.shape != "cylinder channel")
+            {
+              // U_infinity is the inflow's mean speed on any mesh; the wake, the arch and C_D
+              // below are those of the cylinder channel (its diameter, centred at the origin).
+              if (!prm.output.inflow_boundary.empty())
+                {
+                  const auto [flux, length] = postprocess::boundary_normal_flux(
+                      mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
+                  S["U_infinity"] = -flux / length;
+                }
+              return;
+            }
           // Daviet 6.3.2 (Fig. 14), with the cylinder centred at the origin and the flow along +x:
           // the wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
           // divergence; the pressure peak on the centreline upstream (the arch) is located.
