@@ -36,6 +36,16 @@ namespace granflow
       std::cout << "  [" << static_cast<int>(elapsed()) << " s] " << text << std::endl;
   }
 
+  void
+  Logger::phase(const std::string &text)
+  {
+    if (elapsed() < 1.)
+      return;
+    last_progress = std::chrono::steady_clock::now();
+    if (echo)
+      std::cout << "  [" << static_cast<int>(elapsed()) << " s] " << text << std::endl;
+  }
+
   double
   Logger::elapsed() const
   {

@@ -34,6 +34,11 @@ namespace granflow
     void
     progress(const std::string &text);
 
+    /// Console-only: the start of a step that may be long (a factorisation), so that a run is
+    /// never silent for long; shown once the run has taken a second, not for quick runs.
+    void
+    phase(const std::string &text);
+
     double
     elapsed() const;
 

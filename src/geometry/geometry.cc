@@ -298,6 +298,52 @@ namespace granflow::geometry
           throw error("is not a valid triangulation: " + std::string(e.what()));
         }
 
+      // Two surfaces meshed apart (no shared nodes along their interface) would be two bodies
+      // joined at a few nodes, with a traction-free crack between them: boundary edges that
+      // overlap are refused. Edges are binned on a grid as fine as the longest one, so each is
+      // compared with its neighbours only.
+      {
+        std::vector<std::array<dealii::Point<2>, 2>> edges;
+        double                                       longest = 0.;
+        for (const auto &cell : mesh.triangulation.active_cell_iterators())
+          for (const auto &face : cell->face_iterators())
+            if (face->at_boundary())
+              {
+                edges.push_back({{face->vertex(0), face->vertex(1)}});
+                longest = std::max(longest, face->vertex(0).distance(face->vertex(1)));
+              }
+        const auto bin = [&](const dealii::Point<2> &p) {
+          return std::pair<long, long>(static_cast<long>(std::floor(p[0] / longest)),
+                                       static_cast<long>(std::floor(p[1] / longest)));
+        };
+        std::map<std::pair<long, long>, std::vector<std::size_t>> bins;
+        for (std::size_t e = 0; e < edges.size(); ++e)
+          {
+            const auto [x0, y0] = bin(edges[e][0]);
+            const auto [x1, y1] = bin(edges[e][1]);
+            for (long x = std::min(x0, x1); x <= std::max(x0, x1); ++x)
+              for (long y = std::min(y0, y1); y <= std::max(y0, y1); ++y)
+                bins[{x, y}].push_back(e);
+          }
+        for (std::size_t e = 0; e < edges.size(); ++e)
+          {
+            const dealii::Point<2> m = 0.5 * (edges[e][0] + edges[e][1]);
+            for (const std::size_t f : bins[bin(m)])
+              {
+                if (f == e)
+                  continue;
+                const dealii::Tensor<1, 2> t = edges[f][1] - edges[f][0], r = m - edges[f][0];
+                const double               s = (r * t) / (t * t);
+                const double distance        = std::abs(r[0] * t[1] - r[1] * t[0]) / t.norm();
+                if (s > 1e-9 && s < 1. - 1e-9 && distance < 1e-9 * longest)
+                  throw error("has a non-conforming interface at " + str(m) +
+                              ": two boundary edges overlap there (the surfaces on either side "
+                              "do not share their nodes): expected one conforming mesh (in Gmsh, "
+                              "Coherence or BooleanFragments before meshing)");
+              }
+          }
+      }
+
       unsigned int     n_unnamed = 0;
       dealii::Point<2> first_unnamed;
       for (const auto &cell : mesh.triangulation.active_cell_iterators())

@@ -473,6 +473,31 @@ namespace
                     [](const Point<2> &p) { return p[0] == 0 || p[0] == 1 || p[1] == 0; });
   }
 
+  TEST_F(Geometry, NonConformingInterfaceIsRejected)
+  {
+    // Two unit squares side by side, meshed apart: the right one has its own nodes 5 and 8 on
+    // x = 1 and a node 9 at (1, 0.5) that the left one lacks. Read as it is, the interface would
+    // be a crack; the check names where the edges overlap.
+    {
+      std::ofstream out(path("nonconforming.msh"));
+      out << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n"
+          << "$PhysicalNames\n2\n1 1 \"wall\"\n2 2 \"domain\"\n$EndPhysicalNames\n"
+          << "$Nodes\n9\n1 0 0 0\n2 1 0 0\n3 1 1 0\n4 0 1 0\n5 1 0 0\n6 2 0 0\n7 2 1 0\n"
+          << "8 1 1 0\n9 1 0.5 0\n$EndNodes\n"
+          << "$Elements\n11\n"
+          << "1 1 2 1 1 1 2\n2 1 2 1 1 3 4\n3 1 2 1 1 4 1\n4 1 2 1 1 5 6\n5 1 2 1 1 6 7\n"
+          << "6 1 2 1 1 7 8\n"
+          << "7 2 2 2 2 1 2 3\n8 2 2 2 2 1 3 4\n9 2 2 2 3 5 6 9\n10 2 2 2 3 6 7 9\n"
+          << "11 2 2 2 3 7 8 9\n$EndElements\n";
+    }
+    Mesh mesh;
+    expect_contains(input_error([&] {
+                      granflow::geometry::read_mesh_file(mesh, path("nonconforming.msh"),
+                                                         "case.prm");
+                    }),
+                    {"case.prm", "non-conforming interface at (1, 0.25)"});
+  }
+
   TEST_F(Geometry, RoundTripThroughTheWrittenFile)
   {
     Mesh generated, read;

@@ -614,6 +614,14 @@ namespace granflow::dp
       for (;;)
         {
           assemble_velocity_operator(eta);
+          // Nothing solved yet: a stop request ends the run here, before the factorisation.
+          if (viscosity_iterations == 0 && interrupt::requested())
+            throw Interrupted(std::string("stopped by ") + interrupt::signal_name() +
+                                  " before the solve: nothing was computed (" + out.target() +
+                                  " has the log and the parameters)",
+                              interrupt::signal_number());
+          log.phase("factorising A (" + std::to_string(n_free) + " free velocity dofs), then " +
+                    prm.solver.method + " iterations");
           const Vector<double> u_old = u;
           stats = solve_cone_problem();
           outer_total += stats.outer_iterations;
