@@ -198,8 +198,10 @@ namespace granflow
         for (std::size_t i = 0; i + 1 < path.size(); ++i)
           prm.enter_subsection(path[i]);
         const std::filesystem::path value = prm.get(path.back());
-        if (!value.empty() && value.is_relative() && !case_directory.empty())
-          prm.set(path.back(), (case_directory / value).lexically_normal().string());
+        // absolute, so that the parameters.prm a run writes can be rerun from anywhere
+        if (!value.empty() && value.is_relative())
+          prm.set(path.back(),
+                  std::filesystem::absolute(case_directory / value).lexically_normal().string());
         for (std::size_t i = 0; i + 1 < path.size(); ++i)
           prm.leave_subsection();
       }

@@ -77,6 +77,19 @@ if grep -q '"boundary_force"' drag_channel/summary.json && ! grep -q '"drag_coef
   ! grep -q '"wake"' drag_channel/summary.json; then echo "ok   drag on another shape: force only"; passes=$((passes + 1));
 else echo "FAIL drag on another shape"; failures=$((failures + 1)); fi
 
+# Global refinements put the cylinder's new vertices on the circle, not on the coarse chords.
+check cylinder-refined 0 "Results in cyl_refined" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/cylinder.prm" \
+  --output cyl_refined --quiet --set "Geometry/Global refinements=1" --set "Geometry/Mesh size=0.1" \
+  --set "Solver/Tolerance=1e-3"
+if /usr/bin/python3 - cyl_refined/solution-0000.vtu <<'PY'
+import sys, meshio, numpy as np
+p = meshio.read(sys.argv[1]).points
+r, R = np.hypot(p[:, 0], p[:, 1]), 0.125
+on, inside = np.sum(np.abs(r - R) < 1e-7), np.sum(r < R - 1e-7)
+assert inside < on / 2, (on, inside)  # only the P2 patches' chord midpoints lie inside
+PY
+then echo "ok   refined cylinder is round"; passes=$((passes + 1)); else echo "FAIL refined cylinder"; failures=$((failures + 1)); fi
+
 # The silo of Table 2 on its default mesh: the interior point reaches the case's 1e-6 (exit 0; an
 # unconverged solve would exit 3).
 check silo-interior-point 0 "Results in silo" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \

@@ -19,6 +19,7 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/manifold_lib.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
 #include <deal.II/numerics/vector_tools.h>
@@ -419,9 +420,25 @@ namespace granflow::dp
         geometry::make_cylinder_channel(mesh, g.channel_length, g.channel_width, g.cylinder_diameter,
                                         g.mesh_size, msh, f);
       else
-        geometry::read_mesh_file(mesh, g.mesh_file, f);
+        {
+          geometry::read_mesh_file(mesh, g.mesh_file, f);
+          // The output directory keeps the mesh the run used, as for the generated shapes.
+          std::error_code ec;
+          std::filesystem::copy_file(g.mesh_file, msh,
+                                     std::filesystem::copy_options::overwrite_existing, ec);
+        }
       if (g.refinements > 0)
         {
+          // New vertices on the cylinder go onto the circle, not onto the chords of the coarse
+          // mesh (the generator centres the cylinder at the origin).
+          if (g.shape == "cylinder channel")
+            {
+              const auto cylinder = mesh.id("cylinder", f);
+              for (const auto &face : mesh.triangulation.active_face_iterators())
+                if (face->at_boundary() && face->boundary_id() == cylinder)
+                  face->set_manifold_id(1);
+              mesh.triangulation.set_manifold(1, SphericalManifold<dim>(Point<dim>()));
+            }
           // Each refinement quadruples the triangles; the generators' bound of 1e7 holds for the
           // refined mesh too.
           const double triangles =
