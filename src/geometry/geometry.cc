@@ -25,6 +25,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <set>
 #include <sstream>
@@ -667,10 +668,25 @@ namespace granflow::geometry
   read_mesh_file(Mesh &mesh, const std::string &msh_file, const std::string &source)
   {
     std::error_code ec;
+    if (std::filesystem::is_directory(msh_file, ec))
+      throw InputError(source, entry::mesh_file,
+                       "'" + msh_file + "' is a directory: expected a Gmsh .msh file");
     if (!std::filesystem::is_regular_file(msh_file, ec))
       throw InputError(source,
                        entry::mesh_file,
                        "cannot read the mesh file '" + msh_file + "': no such file");
+    {
+      // Every .msh (ASCII or binary, any version) begins with $MeshFormat; anything else (a .geo,
+      // an image) would otherwise be opened by Gmsh as a geometry or fail deep inside it.
+      std::ifstream in(msh_file, std::ios::binary);
+      std::string   first;
+      std::getline(in, first);
+      if (first.rfind("$MeshFormat", 0) != 0)
+        throw InputError(source, entry::mesh_file,
+                         "'" + msh_file +
+                             "' is not a Gmsh mesh file (it does not begin with $MeshFormat): "
+                             "expected a .msh file (in Gmsh: File > Export, or gmsh -2 file.geo)");
+    }
 
     with_gmsh(source, entry::mesh_file, "reading the mesh file '" + msh_file + "'", [&] {
       gmsh::open(msh_file);

@@ -557,6 +557,23 @@ namespace
                     {"case.prm", "Geometry/Mesh file", f});
   }
 
+  TEST_F(Geometry, FileThatIsNotAMeshIsNamedAsSuch)
+  {
+    // A .geo script given as the mesh: said to be no mesh, not "no triangles" from deep in Gmsh.
+    {
+      std::ofstream out(path("square.geo"));
+      out << "Point(1) = {0, 0, 0};\n";
+    }
+    Mesh mesh;
+    expect_contains(input_error([&] {
+                      granflow::geometry::read_mesh_file(mesh, path("square.geo"), "case.prm");
+                    }),
+                    {"case.prm", "Geometry/Mesh file", "not a Gmsh mesh file"});
+    expect_contains(
+        input_error([&] { granflow::geometry::read_mesh_file(mesh, path(""), "case.prm"); }),
+        {"case.prm", "is a directory"});
+  }
+
   TEST_F(Geometry, MeshWithoutTrianglesIsRejected)
   {
     Mesh mesh;
