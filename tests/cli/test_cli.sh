@@ -167,6 +167,7 @@ bad rigid-motion-of-a-loose-piece "no velocity condition applies on the part of 
   --set "Output/Profile end=1, 0.5"
 bad external-pressure-twice "names boundary 'inlet' a second time" --set "Boundary conditions/External pressure=inlet: 1, inlet: 3"
 bad external-pressure-on-no-slip "a No-slip boundary" --set "Boundary conditions/External pressure=top: 1"
+bad drag-boundary-not-no-slip "is not in Boundary conditions/No-slip" --set "Output/Drag boundary=inlet"
 bad viscosity-tolerance-zero "Solver/Viscosity tolerance" --set "Solver/Viscosity tolerance=0"
 bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip'" --set "Boundary conditions/No-slip=bottom, lid"
 bad blames-the-set "--set Geometry/Mesh size=0" --set "Geometry/Mesh size=0"

@@ -169,9 +169,11 @@ namespace granflow::dp
           "Samples along the line, in [2, 100000]; those outside the mesh are left out.",
           Integer(2, 100000));
       prm.add_parameter("Drag boundary", o.drag_boundary,
-                        "Boundary on which the drag F_D = int lambda n . e_x (6.3.1) and the force "
-                        "int lambda n are computed; with Shape = cylinder channel also the wake, "
-                        "the upstream pressure peak and (with Inflow boundary) Fr and C_D.",
+                        "No-slip boundary on which the drag F_D = int lambda n . e_x (6.3.1) and "
+                        "the material's force (boundary_force, with its viscous part) are "
+                        "computed, from the reaction of the momentum equation; with Shape = "
+                        "cylinder channel also the wake, the upstream pressure peak and (with "
+                        "Inflow boundary) Fr and C_D.",
                         Anything());
       prm.add_parameter("Inflow boundary", o.inflow_boundary,
                         "Boundary whose mean velocity is U_infinity (Fr, C_D of 6.3.1).", Anything());
