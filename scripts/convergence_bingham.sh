@@ -11,6 +11,10 @@
 #   scripts/convergence_bingham.sh [BUILD_DIR] [OUT_DIR] [MESHES]
 set -euo pipefail
 build=${1:-build} out=${2:-results/convergence_bingham} levels=${3:-5}
+if ! [ "$levels" -ge 2 ] 2>/dev/null; then
+  echo "convergence_bingham.sh: MESHES = $levels: expected at least 2 (an order needs two meshes)" >&2
+  exit 2
+fi
 granflow="$build/apps/granflow"
 mkdir -p "$out"
 csv="$out/convergence.csv"

@@ -254,7 +254,10 @@ namespace granflow::solvers
             // left the central path and only crawl: stop with the best iterate.
             // The same when 50 iterations have not gained 10 % on the best residual.
             if (step == 0. || short_steps == 5 || stats.outer_iterations - progress_iteration >= 50)
-              break;
+              {
+                stats.stalled = true;
+                break;
+              }
           }
         stats.time_solve            = std::chrono::duration<double>(Clock::now() - t0).count();
         stats.operator_applications = factorizations;

@@ -702,10 +702,12 @@ namespace granflow::dp
         }
 
       solver_json = {{"method", prm.solver.method},
-                     {"residual_kind", prm.solver.residual},
+                     {"residual_kind",
+                      prm.rheology.Bi > 0. ? std::string("alart-curnier") : prm.solver.residual},
                      {"tolerance", prm.solver.tolerance},
                      {"converged", stats.converged},
                      {"interrupted", stats.interrupted},
+                     {"stalled", stats.stalled},
                      {"residual", stats.residual},
                      {"viscosity_iterations", viscosity_iterations},
                      {"viscosity_relative_change", change},
@@ -734,11 +736,18 @@ namespace granflow::dp
             s << " was stopped by " << interrupt::signal_name() << " at residual " << stats.residual
               << " (tolerance " << prm.solver.tolerance << ") after " << stats.outer_iterations
               << " iterations. ";
+          else if (stats.stalled)
+            s << " stalled at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
+              << ") after " << stats.outer_iterations
+              << " iterations: its steps fell below 1e-4 or 50 iterations gained less than 10 % "
+                 "(docs/solvers.md), which higher limits do not change; a looser Solver/Tolerance, "
+                 "another mesh or Solver/Method = fixed point may. ";
           else
             s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
-              << stats.residual << " after " << stats.outer_iterations
-              << " iterations; raise Solver/Max outer iterations, Max inner iterations or Max "
-                 "seconds). ";
+              << stats.residual << " after " << stats.outer_iterations << " iterations; raise "
+              << (interior_point ? "Solver/Max outer iterations or Max seconds). "
+                                 : "Solver/Max outer iterations, Max inner iterations or Max "
+                                   "seconds). ");
           s << "The iterate of least residual was written to " << out.target();
           if (stats.interrupted)
             throw Interrupted(s.str(), interrupt::signal_number());
@@ -866,6 +875,9 @@ namespace granflow::dp
                            {"stress_element", prm.solver.stress_element},
                            {"constraint_points", n_points}};
       S["solver"]       = solver_json;
+      // as in the ngf summary: whether the run reached its tolerance, and whether a signal ended it
+      S["converged"]    = solver_json.value("converged", false);
+      S["interrupted"]  = solver_json.value("interrupted", false);
       S["zones"]        = {{"rigid_points", n_rigid}, {"flowing_points", n_flowing},
                            {"dilating_points", n_dilating}, {"max_div_u", max_div},
                            {"max_deviatoric_strain_rate", max_D0}};
