@@ -93,6 +93,12 @@ namespace granflow::dp
       solve_cone_problem();
       std::vector<double>
       viscosity_from_velocity() const;
+      /// Daviet 6.1.3: eta = |D(u)|, bounded below by the viscosity floor.
+      double
+      bagnold_viscosity(const SymmetricTensor<2, dim> &D) const
+      {
+        return std::max(rheology::tensor_norm(D), prm.rheology.viscosity_floor);
+      }
       void
       postprocess(Results &results);
       void
@@ -150,26 +156,24 @@ namespace granflow::dp
     {
       std::map<types::global_dof_index, Point<dim>> support;
       DoFTools::map_dofs_to_support_points(mapping, dof_u, support);
-      std::vector<int>                     piece(mesh.triangulation.n_active_cells(), -1);
-      int                                  n_pieces = 0;
+      std::vector<bool>                    seen_cell(mesh.triangulation.n_active_cells(), false);
       std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell());
       for (const auto &seed : dof_u.active_cell_iterators())
         {
-          if (piece[seed->active_cell_index()] >= 0)
+          if (seen_cell[seed->active_cell_index()])
             continue;
           // The piece of `seed`: its cells, their constrained dofs, a centre and a size.
           std::vector<typename DoFHandler<dim>::active_cell_iterator> stack{seed}, cells;
-          piece[seed->active_cell_index()] = n_pieces++;
+          seen_cell[seed->active_cell_index()] = true;
           while (!stack.empty())
             {
               const auto cell = stack.back();
               stack.pop_back();
               cells.push_back(cell);
               for (const unsigned int f : cell->face_indices())
-                if (!cell->at_boundary(f) && piece[cell->neighbor(f)->active_cell_index()] < 0)
+                if (!cell->at_boundary(f) && !seen_cell[cell->neighbor(f)->active_cell_index()])
                   {
-                    piece[cell->neighbor(f)->active_cell_index()] =
-                        piece[seed->active_cell_index()];
+                    seen_cell[cell->neighbor(f)->active_cell_index()] = true;
                     stack.push_back(cell->neighbor(f));
                   }
             }
@@ -497,14 +501,7 @@ namespace granflow::dp
           ComponentMask(std::vector<bool>{true, false}));
       add(bc.zero_y_velocity, "Boundary conditions/Zero y-velocity",
           ComponentMask(std::vector<bool>{false, true}));
-      // Without a velocity condition, A is singular (rigid motions are free): bad input, said here
-      // rather than by the factorisation.
-      if (dirichlet.empty())
-        throw InputError(prm.case_file, "Boundary conditions/No-slip",
-                         "is empty, as are Zero x-velocity and Zero y-velocity: expected at least "
-                         "one boundary with a velocity condition (else the velocity is fixed only "
-                         "up to a rigid motion)");
-      require_no_free_rigid_motion();
+      require_no_free_rigid_motion(); // also where there is no velocity condition at all
       // Every named boundary of the load must exist too (checked before anything is solved).
       const auto no_slip = split_list(bc.no_slip);
       for (const auto &[name, p] :
@@ -632,7 +629,7 @@ namespace granflow::dp
           fv.reinit(cell);
           fv[velocity].get_function_symmetric_gradients(u, D);
           for (const auto &d : D)
-            eta.push_back(std::max(rheology::tensor_norm(d), prm.rheology.viscosity_floor));
+            eta.push_back(bagnold_viscosity(d));
         }
       return eta;
     }
@@ -990,13 +987,9 @@ namespace granflow::dp
 
       if (!prm.output.drag_boundary.empty())
         {
-          // Daviet 6.3.1: F_D = int_{dO} lambda n . e_x, lambda n = (lambda_xx n_x + lambda_xy
-          // n_y); lambda = chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]]. The
-          // material's force on the boundary, int (lambda - 2/Re eta D^b(u)) n (23), from the
+          // The material's force on the boundary, int (lambda - 2/Re eta D^b(u)) n (23), from the
           // reaction; the paper's drag F_D = int lambda n . e_x (6.3.1) is that minus the viscous
-          // traction, which the P2 velocity gives accurately. (The trace of the stress field lambda
-          // itself, the earlier estimate, is only constrained at its points: with P1d it moved by
-          // 50 % under refinement of the cylinder channel, and it is kept for comparison.)
+          // traction, which the P2 velocity gives accurately.
           const auto           id      = mesh.id(prm.output.drag_boundary, prm.case_file);
           const Tensor<1, dim> force   = boundary_force(id);
           const Tensor<1, dim> viscous = viscous_traction_force(id);
@@ -1004,6 +997,10 @@ namespace granflow::dp
           S["drag"]                    = F_D;
           S["boundary_force"]          = {force[0], force[1]};
           S["boundary_force_viscous"]  = {-viscous[0], -viscous[1]};
+          // The trace of the stress field, lambda n = (lambda_xx n_x + lambda_xy n_y) with lambda =
+          // chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]]: the earlier estimate,
+          // kept for comparison. It is constrained only at its points; with P1d it moved by 50 %
+          // under refinement of the cylinder channel.
           Vector<double> l_xx = stress_fields["lambda_N"], l_xy = stress_fields["lambda_2"];
           l_xx += stress_fields["lambda_1"];
           S["drag_from_stress_trace"] = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
@@ -1106,7 +1103,7 @@ namespace granflow::dp
 
     /// int_Gamma 2/Re eta D^b(u) n over boundary `id` (n the domain's outward normal), with
     /// D^b(u) = D0(u) + b/d div(u) I as in a(., .) (25a), and eta = 1 or, for the Bagnold
-    /// viscosity, |D(u)| bounded below as in viscosity_from_velocity().
+    /// viscosity, bagnold_viscosity().
     Tensor<1, dim>
     Problem::viscous_traction_force(const types::boundary_id id) const
     {
@@ -1125,9 +1122,7 @@ namespace granflow::dp
               fvf[velocity].get_function_symmetric_gradients(u, D);
               for (unsigned int q = 0; q < face_quadrature.size(); ++q)
                 {
-                  const double eta =
-                      bagnold ? std::max(rheology::tensor_norm(D[q]), prm.rheology.viscosity_floor)
-                              : 1.;
+                  const double                  eta = bagnold ? bagnold_viscosity(D[q]) : 1.;
                   const SymmetricTensor<2, dim> Db =
                       deviator(D[q]) +
                       prm.rheology.b / dim * trace(D[q]) * unit_symmetric_tensor<dim>();
