@@ -19,7 +19,7 @@ namespace granflow::interrupt
   int
   signal_number();
 
-  /// "SIGINT", "SIGTERM" or "signal N".
+  /// "SIGINT", "SIGTERM" or "a signal".
   const char *
   signal_name();
 } // namespace granflow::interrupt

@@ -79,6 +79,18 @@ namespace granflow
       return p;
     }
 
+    /// Calls f(key) with `prm` inside the subsections of the entry path {"Section", ..., "key"}.
+    template <typename F>
+    void
+    at_entry(dealii::ParameterHandler &prm, const std::vector<std::string> &path, const F &f)
+    {
+      for (std::size_t i = 0; i + 1 < path.size(); ++i)
+        prm.enter_subsection(path[i]);
+      f(path.back());
+      for (std::size_t i = 0; i + 1 < path.size(); ++i)
+        prm.leave_subsection();
+    }
+
     /// deal.II's "value does not match the pattern" messages, said as the project says them.
     std::string
     readable(const std::string &message)
@@ -194,16 +206,13 @@ namespace granflow
     const std::filesystem::path case_directory = std::filesystem::path(case_file).parent_path();
     for (const std::string &entry : path_entries)
       {
-        const std::vector<std::string> path = split_list(entry, '/');
-        for (std::size_t i = 0; i + 1 < path.size(); ++i)
-          prm.enter_subsection(path[i]);
-        const std::filesystem::path value = prm.get(path.back());
-        // absolute, so that the parameters.prm a run writes can be rerun from anywhere
-        if (!value.empty() && value.is_relative())
-          prm.set(path.back(),
-                  std::filesystem::absolute(case_directory / value).lexically_normal().string());
-        for (std::size_t i = 0; i + 1 < path.size(); ++i)
-          prm.leave_subsection();
+        at_entry(prm, split_list(entry, '/'), [&](const std::string &key) {
+          const std::filesystem::path value = prm.get(key);
+          // absolute, so that the parameters.prm a run writes can be rerun from anywhere
+          if (!value.empty() && value.is_relative())
+            prm.set(key,
+                    std::filesystem::absolute(case_directory / value).lexically_normal().string());
+        });
       }
     for (const Override &o : overrides)
       {
@@ -212,11 +221,7 @@ namespace granflow
           throw InputError("--set " + o.path + "=" + o.value + ": empty entry name");
         try
           {
-            for (std::size_t i = 0; i + 1 < path.size(); ++i)
-              prm.enter_subsection(path[i]);
-            prm.set(path.back(), o.value);
-            for (std::size_t i = 0; i + 1 < path.size(); ++i)
-              prm.leave_subsection();
+            at_entry(prm, path, [&](const std::string &key) { prm.set(key, o.value); });
           }
         catch (const dealii::ExceptionBase &e)
           {
