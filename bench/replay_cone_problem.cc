@@ -1,35 +1,149 @@
 // Replays a dumped cone problem (Solver/Dump cone problem) with each inner solver and writes the
 // wall time, fixed-point iterations and time per iteration as JSON (sand6's d6_solvePrimal idea).
+//
+// The command line is checked before any work (exit 2, one message). A method that fails on the
+// problem (the interior point where Bi > 0, say) gets an "error" entry and the others still run
+// (exit 3 at the end); Ctrl-C or SIGTERM ends the current solve at its next iteration and prints
+// what was measured so far (exit 128 + the signal). The JSON is printed in every one of these
+// cases.
+#include "core/interrupt.h"
 #include "solvers/cone_problem.h"
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <sstream>
+#include <stdexcept>
+
+namespace
+{
+  constexpr char usage[] =
+      "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg|ip ...]\n"
+      "  (ip: the interior-point method on the whole problem; default methods: pg apgd spg)\n"
+      "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n";
+
+  /// A positive finite number written in full ("1e-6", not "1e-6x"), or nothing.
+  std::optional<double>
+  parse_positive(const char *text)
+  {
+    try
+      {
+        std::size_t  used  = 0;
+        const double value = std::stod(text, &used);
+        if (used == std::string(text).size() && std::isfinite(value) && value > 0.)
+          return value;
+      }
+    catch (const std::exception &)
+      {
+      }
+    return std::nullopt;
+  }
+
+  int
+  bad_input(const std::string &message)
+  {
+    std::cerr << "replay_cone_problem: " << message << '\n';
+    return 2;
+  }
+
+  nlohmann::json
+  measurements(const granflow::solvers::ConeSolverStats &stats, const double tolerance)
+  {
+    // Wall time at which the residual first fell to each decade (null: never): how far the
+    // fixed point gets, and how fast, when it stalls short of the tolerance.
+    nlohmann::json reached = nlohmann::json::object();
+    for (const double level : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6})
+      {
+        nlohmann::json t = nullptr;
+        for (std::size_t k = 0; k < stats.residual_history.size(); ++k)
+          if (stats.residual_history[k] <= level)
+            {
+              t = stats.time_factorize + stats.time_history[k];
+              break;
+            }
+        std::ostringstream key;
+        key << level;
+        reached[key.str()] = t;
+      }
+    return {{"time_to_residual_s", reached},
+            {"converged", stats.converged},
+            {"interrupted", stats.interrupted},
+            {"residual", stats.residual},
+            {"tolerance", tolerance},
+            {"time_factorize_s", stats.time_factorize},
+            {"time_solve_s", stats.time_solve},
+            {"time_total_s", stats.time_factorize + stats.time_solve},
+            {"fixed_point_iterations", stats.outer_iterations},
+            {"inner_iterations", stats.inner_iterations},
+            {"W_applications", stats.operator_applications},
+            {"time_per_fixed_point_iteration_s",
+             stats.time_solve / std::max(1u, stats.outer_iterations)}};
+  }
+} // namespace
 
 int
 main(int argc, char **argv)
 {
+  using namespace granflow;
   using namespace granflow::solvers;
   if (argc < 2)
+    return bad_input("no problem file (usage: replay_cone_problem PROBLEM.bin [tolerance] "
+                     "[pg|apgd|spg|ip ...]; --help for more)");
+  if (std::string(argv[1]) == "--help")
     {
-      std::cerr << "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg|ip ...]\n"
-                   "  (ip: the interior-point method on the whole problem)\n"
-                   "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints "
-                   "tables)\n";
-      return 2;
+      std::cout << usage;
+      return 0;
     }
-  const ConeProblemData    data      = load_cone_problem(argv[1]);
-  const double             tolerance = argc > 2 ? std::stod(argv[2]) : 1e-6;
+
+  double tolerance = 1e-6;
+  if (argc > 2)
+    {
+      const auto value = parse_positive(argv[2]);
+      if (!value)
+        return bad_input("tolerance '" + std::string(argv[2]) +
+                         "' is not a positive number (for example 1e-6)");
+      tolerance = *value;
+    }
   std::vector<std::string> names;
   for (int i = 3; i < argc; ++i)
-    names.emplace_back(argv[i]);
+    {
+      const std::string name = argv[i];
+      if (name != "pg" && name != "apgd" && name != "spg" && name != "ip")
+        return bad_input("unknown method '" + name + "': expected pg, apgd, spg or ip");
+      names.push_back(name);
+    }
   if (names.empty())
     names = {"pg", "apgd", "spg"};
+  double max_seconds = 0.;
+  if (const char *t = std::getenv("GRANFLOW_REPLAY_MAX_SECONDS"))
+    {
+      const auto value = parse_positive(t);
+      if (!value)
+        return bad_input("GRANFLOW_REPLAY_MAX_SECONDS='" + std::string(t) +
+                         "' is not a positive number of seconds");
+      max_seconds = *value;
+    }
+
+  ConeProblemData data;
+  try
+    {
+      data = load_cone_problem(argv[1]);
+    }
+  catch (const std::exception &e)
+    {
+      return bad_input(e.what());
+    }
+
+  interrupt::install();
   nlohmann::json results = nlohmann::json::array();
+  bool           failed  = false;
   for (const auto &name : names)
     {
+      nlohmann::json    entry = {{"method", name == "ip" ? "interior point" : "fixed point"},
+                                 {"inner_solver", name == "ip" ? "" : name}};
       ConeSolverOptions options;
       if (name == "ip")
         options.method = ConeMethod::interior_point;
@@ -39,43 +153,27 @@ main(int argc, char **argv)
       options.residual             = ResidualKind::fischer_burmeister;
       options.max_outer_iterations = 1000;
       options.max_inner_iterations = 300;
-      if (const char *t = std::getenv("GRANFLOW_REPLAY_MAX_SECONDS"))
-        options.max_seconds = std::atof(t);
+      options.max_seconds          = max_seconds;
+      options.stop_requested       = interrupt::requested;
       if (std::getenv("GRANFLOW_REPLAY_LOG"))
         options.log = &std::cerr;
-      ConeSolution solution;
-      const auto   stats = solve_cone_problem(data, options, solution);
-      // Wall time at which the residual first fell to each decade (null: never): how far the
-      // fixed point gets, and how fast, when it stalls short of the tolerance.
-      nlohmann::json reached = nlohmann::json::object();
-      for (const double level : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6})
+      try
         {
-          nlohmann::json t = nullptr;
-          for (std::size_t k = 0; k < stats.residual_history.size(); ++k)
-            if (stats.residual_history[k] <= level)
-              {
-                t = stats.time_factorize + stats.time_history[k];
-                break;
-              }
-          std::ostringstream key;
-          key << level;
-          reached[key.str()] = t;
+          ConeSolution solution;
+          entry.update(measurements(solve_cone_problem(data, options, solution), tolerance));
         }
-      results.push_back({{"method", name == "ip" ? "interior point" : "fixed point"},
-                         {"inner_solver", name == "ip" ? "" : name},
-                         {"time_to_residual_s", reached},
-                         {"converged", stats.converged},
-                         {"residual", stats.residual},
-                         {"tolerance", tolerance},
-                         {"time_factorize_s", stats.time_factorize},
-                         {"time_solve_s", stats.time_solve},
-                         {"time_total_s", stats.time_factorize + stats.time_solve},
-                         {"fixed_point_iterations", stats.outer_iterations},
-                         {"inner_iterations", stats.inner_iterations},
-                         {"W_applications", stats.operator_applications},
-                         {"time_per_fixed_point_iteration_s",
-                          stats.time_solve / std::max(1u, stats.outer_iterations)}});
+      catch (const std::exception &e)
+        {
+          entry["error"] = e.what();
+          std::cerr << "replay_cone_problem: " << name << ": " << e.what() << '\n';
+          failed = true;
+        }
+      results.push_back(entry);
+      if (interrupt::requested())
+        break;
     }
   std::cout << results.dump(2) << '\n';
-  return 0;
+  if (interrupt::requested())
+    return 128 + interrupt::signal_number();
+  return failed ? 3 : 0;
 }

@@ -7,24 +7,7 @@ work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 cd "$work"
 case_file="$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm"
-failures=0 passes=0
-
-check() { # name, expected status, expected text in stderr/stdout, command...
-  local name=$1 status=$2 text=$3
-  shift 3
-  "$@" >out.txt 2>err.txt
-  local got=$?
-  if [ "$got" -ne "$status" ]; then
-    echo "FAIL $name: exit $got, expected $status"; cat err.txt; failures=$((failures + 1)); return
-  fi
-  if ! grep -qF -- "$text" out.txt err.txt; then
-    echo "FAIL $name: output lacks '$text'"; cat out.txt err.txt; failures=$((failures + 1)); return
-  fi
-  if [ "$status" -eq 2 ] && [ "$(wc -l <err.txt)" -ne 1 ]; then
-    echo "FAIL $name: expected one error line, got:"; cat err.txt; failures=$((failures + 1)); return
-  fi
-  echo "ok   $name"; passes=$((passes + 1))
-}
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
 
 check help 0 "granflow run CASE.prm" "$GRANFLOW" --help
 check help-lists-dp 0 "dp    nonsmooth Drucker-Prager" "$GRANFLOW" --help
@@ -38,8 +21,8 @@ check unknown-command 2 "unknown command" "$GRANFLOW" frobnicate
 # A run writes the output directory a user opens.
 check run 0 "Results in out" "$GRANFLOW" run "$case_file" --output out --quiet --set "Rheology/Bi=0.3"
 for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.csv; do
-  if [ -s "out/$f" ]; then echo "ok   output $f"; passes=$((passes + 1));
-  else echo "FAIL output $f missing"; failures=$((failures + 1)); fi
+  if [ -s "out/$f" ]; then pass "output $f";
+  else fail "output $f missing"; fi
 done
 
 # The VTU's zone is 0, 1 or 2 on every triangle, and its norms are not negative (P1d point values
@@ -51,15 +34,15 @@ assert set(np.unique(d["zone"])) <= {0.0, 1.0, 2.0}, np.unique(d["zone"])
 for name in ("tau_norm", "D0_norm", "residual"):
     assert d[name].min() >= 0.0, (name, d[name].min())
 PY
-then echo "ok   vtu zone and norms"; passes=$((passes + 1)); else echo "FAIL vtu zone and norms"; failures=$((failures + 1)); fi
+then pass "vtu zone and norms"; else fail "vtu zone and norms"; fi
 
 # A rerun without VTU output into the same directory removes the earlier run's solution files
 # (they would belong to another run) and keeps files a user put there.
 echo "mine" >out/notes.txt
 check rerun-without-vtu 0 "Results in out" "$GRANFLOW" run "$case_file" --output out --quiet --set "Output/Write vtu=false"
 if [ ! -e out/solution.pvd ] && [ ! -e out/solution-0000.vtu ] && [ -s out/summary.json ] && [ -s out/notes.txt ]; then
-  echo "ok   rerun replaces the earlier run's files"; passes=$((passes + 1))
-else echo "FAIL rerun left stale solution files or removed a user's file"; ls out; failures=$((failures + 1)); fi
+  pass "rerun replaces the earlier run's files"
+else fail "rerun left stale solution files or removed a user's file"; ls out; fi
 
 # A user mesh named in a case file is found beside the case file, wherever granflow runs; one
 # given with --set is relative to the current directory. (The mesh is the one the run above wrote.)
@@ -74,8 +57,8 @@ check mesh-file-set-is-cwd-relative 0 "Results in user_mesh2" "$GRANFLOW" run my
 check drag-on-other-shape 0 "Results in drag_channel" "$GRANFLOW" run "$case_file" --output drag_channel --quiet \
   --set "Output/Drag boundary=top" --set "Output/Inflow boundary=inlet"
 if grep -q '"boundary_force"' drag_channel/summary.json && ! grep -q '"drag_coefficient"' drag_channel/summary.json &&
-  ! grep -q '"wake"' drag_channel/summary.json; then echo "ok   drag on another shape: force only"; passes=$((passes + 1));
-else echo "FAIL drag on another shape"; failures=$((failures + 1)); fi
+  ! grep -q '"wake"' drag_channel/summary.json; then pass "drag on another shape: force only";
+else fail "drag on another shape"; fi
 
 # Global refinements put the cylinder's new vertices on the circle, not on the coarse chords.
 check cylinder-refined 0 "Results in cyl_refined" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/cylinder.prm" \
@@ -88,7 +71,7 @@ r, R = np.hypot(p[:, 0], p[:, 1]), 0.125
 on, inside = np.sum(np.abs(r - R) < 1e-7), np.sum(r < R - 1e-7)
 assert inside < on / 2, (on, inside)  # only the P2 patches' chord midpoints lie inside
 PY
-then echo "ok   refined cylinder is round"; passes=$((passes + 1)); else echo "FAIL refined cylinder"; failures=$((failures + 1)); fi
+then pass "refined cylinder is round"; else fail "refined cylinder"; fi
 
 # The silo of Table 2 on its default mesh: the interior point reaches the case's 1e-6 (exit 0; an
 # unconverged solve would exit 3).
@@ -178,14 +161,14 @@ check empty-output 2 "--output" "$GRANFLOW" run "$case_file" --output ""
 echo "a file" >afile
 check output-is-a-file 2 "is not a directory" "$GRANFLOW" run "$case_file" --output afile --quiet
 bad dump-unwritable "Solver/Dump cone problem" --set "Solver/Dump cone problem=$work/afile/cone.bin"
-if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   nothing lost"; passes=$((passes + 1));
-else echo "FAIL bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi
+if [ "$(cat keep/summary.json)" = "earlier result" ]; then pass "nothing lost";
+else fail "bad input overwrote keep/summary.json"; fi
 
 # A solver that cannot converge: exit 3, results so far kept and said so.
 check not-converged 3 "written to" "$GRANFLOW" run "$case_file" --output nc --quiet \
   --set "Solver/Max outer iterations=1" --set "Solver/Max inner iterations=1" --set "Solver/Tolerance=1e-14"
-if [ -s nc/summary.json ]; then echo "ok   not-converged keeps summary"; passes=$((passes + 1));
-else echo "FAIL not-converged summary missing"; failures=$((failures + 1)); fi
+if [ -s nc/summary.json ]; then pass "not-converged keeps summary";
+else fail "not-converged summary missing"; fi
 # The wall-time limit ends a solve that the iteration limits would let run for minutes (without
 # it, the timeout's status 124 fails the check).
 check max-seconds 3 "Max seconds" timeout 60 "$GRANFLOW" run "$case_file" --output ms --quiet \
@@ -208,10 +191,10 @@ interrupted() { # name, signal, expected status, output directory, command...
   local got=$?
   if [ "$got" -eq "$status" ] && grep -q '"interrupted": true' "$dir/summary.json" 2>/dev/null &&
     grep -qF "interrupted: " err.txt && [ ! -e ".$dir.staging" ]; then
-    echo "ok   $name"; passes=$((passes + 1))
+    pass "$name"
   else
-    echo "FAIL $name: exit $got (expected $status), summary:"; grep -s interrupted "$dir/summary.json"
-    cat err.txt; ls -a; failures=$((failures + 1))
+    fail "$name" "exit $got (expected $status), summary:"; grep -s interrupted "$dir/summary.json"
+    cat err.txt; ls -a
   fi
 }
 interrupted dp-ctrl-c INT 130 int_dp "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
@@ -260,25 +243,24 @@ check ngf-inner-radius-huge 2 "Inner radius" "$GRANFLOW" run "$SOURCE_DIR/cases/
   --output keep --quiet --set "Geometry/Inner radius=1e20"
 check ngf-element-too-large 2 "Geometry/Element size" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
   --output keep --quiet --set "Geometry/Element size=25"
-if [ "$(cat keep/summary.json)" = "earlier result" ]; then echo "ok   ngf nothing lost"; passes=$((passes + 1));
-else echo "FAIL ngf bad input overwrote keep/summary.json"; failures=$((failures + 1)); fi
+if [ "$(cat keep/summary.json)" = "earlier result" ]; then pass "ngf nothing lost";
+else fail "ngf bad input overwrote keep/summary.json"; fi
 check ngf-run 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_out --quiet --set "Loading/Wall displacement=0.05"
 for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.csv profiles/stress.csv newton.csv history.csv; do
-  if [ -s "ngf_out/$f" ]; then echo "ok   ngf output $f"; passes=$((passes + 1));
-  else echo "FAIL ngf output $f missing"; failures=$((failures + 1)); fi
+  if [ -s "ngf_out/$f" ]; then pass "ngf output $f";
+  else fail "ngf output $f missing"; fi
 done
 # A run too short to yield ends normally but says it is not steady (summary.json and a warning).
 check ngf-not-steady 0 "warning: not steady over the last tenth of the run" "$GRANFLOW" run "$ngf_case" \
   --output ngf_short --set "Loading/Wall displacement=1e-4"
 if grep -q '"steady": false' ngf_short/summary.json && grep -q "not steady" ngf_short/summary.json; then
-  echo "ok   ngf not-steady in summary"; passes=$((passes + 1))
-else echo "FAIL ngf not-steady verdict missing from summary.json"; failures=$((failures + 1)); fi
+  pass "ngf not-steady in summary"
+else fail "ngf not-steady verdict missing from summary.json"; fi
 check ngf-not-converged 3 "written to" "$GRANFLOW" run "$ngf_case" --output ngf_nc --quiet \
   --set "Solver/Max Newton iterations=1" --set "Solver/Tolerance=1e-14"
-if grep -qF "best iterate of the last attempt: iteration" err.txt; then echo "ok   ngf not-converged names its residuals"; passes=$((passes + 1));
-else echo "FAIL ngf not-converged message lacks the least residuals"; failures=$((failures + 1)); fi
-if [ -s ngf_nc/summary.json ]; then echo "ok   ngf not-converged keeps summary"; passes=$((passes + 1));
-else echo "FAIL ngf not-converged summary missing"; failures=$((failures + 1)); fi
+if grep -qF "best iterate of the last attempt: iteration" err.txt; then pass "ngf not-converged names its residuals";
+else fail "ngf not-converged message lacks the least residuals"; fi
+if [ -s ngf_nc/summary.json ]; then pass "ngf not-converged keeps summary";
+else fail "ngf not-converged summary missing"; fi
 
-echo "$passes passed, $failures failed"
-[ "$failures" -eq 0 ]
+summary

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# bench/replay_cone_problem as a user runs it on a dumped problem: one clear error and exit 2 for a
+# bad command line before any work, an "error" entry (exit 3) for a method the problem does not
+# suit while the others still run, and the measurements so far on Ctrl-C (exit 130).
+set -u
+: "${GRANFLOW:?path of the granflow binary}" "${REPLAY:?path of replay_cone_problem}" \
+  "${SOURCE_DIR:?source directory}"
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+cd "$work"
+. "$(dirname "${BASH_SOURCE[0]}")/lib.sh"
+
+# Two small problems: the Bagnold layer (mu = 0.5, Bi = 0) and the Bingham channel (mu = 0, Bi > 0).
+check dump-bagnold 0 "Results in" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bagnold.prm" \
+  --quiet --output bagnold --set "Solver/Dump cone problem=$work/bagnold.bin"
+check dump-bingham 0 "Results in" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm" \
+  --quiet --output bingham --set "Solver/Dump cone problem=$work/bingham.bin"
+
+check no-arguments 2 "no problem file (usage: replay_cone_problem PROBLEM.bin" "$REPLAY"
+check help 0 "GRANFLOW_REPLAY_MAX_SECONDS limits each solve" "$REPLAY" --help
+check bad-tolerance 2 "tolerance '1e-6x' is not a positive number" "$REPLAY" bagnold.bin 1e-6x
+check negative-tolerance 2 "tolerance '-1' is not a positive number" "$REPLAY" bagnold.bin -1
+check bad-method 2 "unknown method 'sgp': expected pg, apgd, spg or ip" "$REPLAY" bagnold.bin 1e-6 spg sgp
+check missing-file 2 "cannot read cone problem 'nope.bin'" "$REPLAY" nope.bin
+echo "not a dump" >junk.bin
+check not-a-dump 2 "is not a granflow cone problem dump" "$REPLAY" junk.bin
+check bad-max-seconds 2 "GRANFLOW_REPLAY_MAX_SECONDS='soon' is not a positive number" \
+  env GRANFLOW_REPLAY_MAX_SECONDS=soon "$REPLAY" bagnold.bin
+
+check replay 0 '"converged": true' "$REPLAY" bagnold.bin 1e-6 spg ip
+if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
+assert [e["method"] for e in r] == ["fixed point", "interior point"], r
+assert all(e["converged"] and e["residual"] <= 1e-6 for e in r), r' out.txt; then
+  pass "replay measures both methods"
+else fail "replay measures both methods"; cat out.txt; fi
+
+# The interior point refuses Bi > 0; the fixed point after it still runs, and both are printed.
+check unsuited-method 3 "ip: the interior-point method needs mu > 0 and Bi = 0" \
+  "$REPLAY" bingham.bin 1e-6 ip spg
+if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
+assert "error" in r[0] and r[1]["converged"], r' out.txt; then
+  pass "unsuited method leaves the others' results"
+else fail "unsuited method leaves the others' results"; cat out.txt; fi
+
+# Ctrl-C during a solve that cannot finish soon: the solve ends at its next iteration, the methods
+# after it are skipped, and what was measured is printed.
+"$REPLAY" bagnold.bin 1e-15 pg spg >int.json 2>int.err &
+pid=$!
+sleep 1
+kill -INT $pid
+wait $pid
+got=$?
+if [ "$got" -eq 130 ] && /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
+assert len(r) == 1 and r[0]["interrupted"] and not r[0]["converged"], r' int.json; then
+  pass "ctrl-c prints the measurements so far"
+else fail "ctrl-c prints the measurements so far" "exit $got"; cat int.json int.err; fi
+
+summary
