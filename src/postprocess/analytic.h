@@ -27,20 +27,21 @@ namespace granflow::analytic
   }
 
   /// 6.1.3 Bagnold profile on a plane inclined at alpha, layer y in [0, 1], eta = |D(u)| = u'/2.
-  /// From d/dy(eta u') = -(sin a - mu cos a) with u'(1) = 0 (the transcription's
-  /// sqrt(2 sin a - mu cos a) is read as sqrt(2 (sin a - mu cos a)), DESIGN.md):
-  /// u'(y) = sqrt(2 (sin a - mu cos a)) (1 - y)^{1/2}, u = (2/3) sqrt(2 (sin a - mu cos a)) (1 - (1 - y)^{3/2}).
+  /// The shear balance of (23), (2 / Re) eta D_xy = (sin a - mu cos a)(1 - y) with u'(1) = 0, gives
+  /// u'(y) = sqrt(2 Re (sin a - mu cos a)) (1 - y)^{1/2} and
+  /// u = (2/3) sqrt(2 Re (sin a - mu cos a)) (1 - (1 - y)^{3/2}): the paper's formula is Re = 1
+  /// (its transcription's sqrt(2 sin a - mu cos a) is read as sqrt(2 (sin a - mu cos a)),
+  /// DESIGN.md).
   inline double
-  bagnold_velocity(const double y, const double mu, const double alpha)
+  bagnold_shear_rate(const double y, const double mu, const double alpha, const double Re)
   {
-    const double c = std::sqrt(2. * (std::sin(alpha) - mu * std::cos(alpha)));
-    return 2. / 3. * c * (1. - std::pow(1. - y, 1.5));
+    const double c = std::sqrt(2. * Re * (std::sin(alpha) - mu * std::cos(alpha)));
+    return c * std::sqrt(std::max(0., 1. - y));
   }
 
   inline double
-  bagnold_shear_rate(const double y, const double mu, const double alpha)
+  bagnold_velocity(const double y, const double mu, const double alpha, const double Re)
   {
-    const double c = std::sqrt(2. * (std::sin(alpha) - mu * std::cos(alpha)));
-    return c * std::sqrt(std::max(0., 1. - y));
+    return 2. / 3. * bagnold_shear_rate(0., mu, alpha, Re) * (1. - std::pow(1. - y, 1.5));
   }
 } // namespace granflow::analytic

@@ -154,6 +154,15 @@ bad drag-boundary-not-no-slip "is not in Boundary conditions/No-slip" --set "Out
 bad viscosity-tolerance-zero "Solver/Viscosity tolerance" --set "Solver/Viscosity tolerance=0"
 bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip'" --set "Boundary conditions/No-slip=bottom, lid"
 bad blames-the-set "--set Geometry/Mesh size=0" --set "Geometry/Mesh size=0"
+# An analytic reference is refused where it does not hold (its max_rel_error would be wrong).
+bad reference-bingham-needs-mu-0 "'bingham poiseuille' needs Rheology/mu = 0" \
+  --set "Rheology/mu=0.3"
+bad reference-bingham-needs-width-2 "Geometry/Channel width = 2" --set "Geometry/Channel width=1"
+bad reference-bingham-along-the-channel "Gravity direction = 1, 0" --set "Gravity direction=0, -1"
+check reference-bagnold-needs-flow 2 "with tan a > Rheology/mu (here tan a = 0.55" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet --set "Rheology/mu=0.6"
+check reference-bagnold-needs-Bi-0 2 "'bagnold' needs Rheology/Bi = 0" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet --set "Rheology/Bi=0.1"
 check aperture-value-as-given 2 "20 is out of range" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
   --output keep --quiet --set "Geometry/Aperture=20"
 check missing-case 2 "nosuch.prm" "$GRANFLOW" run nosuch.prm --output keep

@@ -912,8 +912,8 @@ namespace granflow::dp
               }
             else
               {
-                u_ref.push_back(analytic::bagnold_velocity(y, mu, alpha));
-                shear_ref.push_back(analytic::bagnold_shear_rate(y, mu, alpha));
+                u_ref.push_back(analytic::bagnold_velocity(y, mu, alpha, Re));
+                shear_ref.push_back(analytic::bagnold_shear_rate(y, mu, alpha, Re));
               }
           double max_err = 0., max_ref = 0., max_shear_err = 0., max_shear_ref = 0.;
           for (std::size_t k = 0; k < coord.size(); ++k)

@@ -195,9 +195,53 @@ namespace granflow::dp
     if (!boundaries.analytic_traction.empty() && output.reference != "bagnold")
       throw InputError(f, "Boundary conditions/Analytic traction",
                        "needs an analytic reference with stresses: set Output/Reference = bagnold");
+    // An analytic reference holds only for the problem it solves; anywhere else its
+    // max_rel_error would be a silent wrong answer (or NaN).
+    const dealii::Tensor<1, 2> g = e_g();
+    if (output.reference == "bingham poiseuille")
+      {
+        // (A user mesh of that channel, Shape = file, is the user's to get right.)
+        if (geometry.shape != "channel" && geometry.shape != "file")
+          throw InputError(f, "Output/Reference",
+                           "'bingham poiseuille' solves the channel y in [-1, 1] (6.1.1): needs "
+                           "Geometry/Shape = channel (or a mesh file of it)");
+        if (geometry.shape == "channel" && geometry.channel_width != 2.)
+          throw InputError(f, "Output/Reference",
+                           "'bingham poiseuille' solves the channel y in [-1, 1] (6.1.1): needs "
+                           "Geometry/Channel width = 2");
+        if (rheology.mu != 0. || rheology.viscosity != "constant")
+          throw InputError(f, "Output/Reference",
+                           "'bingham poiseuille' needs Rheology/mu = 0 and Rheology/Viscosity = "
+                           "constant (6.1.1)");
+        if (g[0] != 1.)
+          throw InputError(f, "Output/Reference",
+                           "'bingham poiseuille' is driven along the channel: needs Gravity "
+                           "direction = 1, 0");
+      }
+    if (output.reference == "bagnold")
+      {
+        if (geometry.shape != "square patch" && geometry.shape != "file")
+          throw InputError(f, "Output/Reference",
+                           "'bagnold' solves the layer y in [0, 1] (6.1.3): needs Geometry/Shape = "
+                           "square patch (or a mesh file of it)");
+        if (geometry.shape == "square patch" && geometry.patch_size != 1.)
+          throw InputError(f, "Output/Reference",
+                           "'bagnold' solves the layer y in [0, 1] (6.1.3): needs Geometry/Patch "
+                           "size = 1");
+        if (rheology.Bi != 0. || rheology.viscosity != "bagnold")
+          throw InputError(
+              f, "Output/Reference",
+              "'bagnold' needs Rheology/Bi = 0 and Rheology/Viscosity = bagnold (6.1.3)");
+        // The layer flows only above the friction angle: sin a > mu cos a with e_g = (sin a,
+        // -cos a).
+        if (!(g[1] < 0. && g[0] > -rheology.mu * g[1]))
+          throw InputError(f, "Output/Reference",
+                           "'bagnold' needs a flowing layer: Gravity direction (sin a, -cos a) "
+                           "with tan a > Rheology/mu (here tan a = " +
+                               std::to_string(g[1] < 0. ? -g[0] / g[1] : 0.) + ")");
+      }
     parse_point(output.profile_start, f, "Output/Profile start");
     parse_point(output.profile_end, f, "Output/Profile end");
-    e_g();
   }
 
   Parameters
