@@ -84,11 +84,23 @@ namespace granflow
     void
     at_entry(dealii::ParameterHandler &prm, const std::vector<std::string> &path, const F &f)
     {
-      for (std::size_t i = 0; i + 1 < path.size(); ++i)
-        prm.enter_subsection(path[i]);
-      f(path.back());
-      for (std::size_t i = 0; i + 1 < path.size(); ++i)
-        prm.leave_subsection();
+      std::size_t entered = 0;
+      const auto  leave   = [&] {
+        for (; entered > 0; --entered)
+          prm.leave_subsection();
+      };
+      try
+        {
+          for (; entered + 1 < path.size(); ++entered)
+            prm.enter_subsection(path[entered]);
+          f(path.back());
+        }
+      catch (...)
+        {
+          leave(); // the caller's error message reads the top level
+          throw;
+        }
+      leave();
     }
 
     /// deal.II's "value does not match the pattern" messages, said as the project says them.
@@ -106,7 +118,27 @@ namespace granflow
                   R"(Line <(\d+)> of file <[^>]*>: The entry value (.*) for the entry named (.*) does not match the given pattern:? <?(\[.*\])>?\.?$)")))
         return "line " + std::string(m[1]) + ": entry '" + std::string(m[3]) + "': value '" +
                std::string(m[2]) + "' is invalid: expected " + describe_pattern(m[4]);
+      if (std::regex_search(
+              message, m,
+              std::regex(
+                  R"(Line <(\d+)> of file <[^>]*>: No entry with name <(.*)> was declared in the current subsection)")))
+        return "line " + std::string(m[1]) + ": unknown entry '" + std::string(m[2]) +
+               "' in its subsection";
+      if (std::regex_search(
+              message, m,
+              std::regex(
+                  R"(Line <(\d+)> of file <.*There is no such subsection to be entered: (.*)$)")))
+        return "line " + std::string(m[1]) + ": unknown subsection '" + std::string(m[2]) + "'";
       return message;
+    }
+
+    /// Where to look up the entries of the case file's model.
+    std::string
+    entries_hint(const dealii::ParameterHandler &prm)
+    {
+      const std::string model = trim(prm.get("Model"));
+      return " (`granflow print-parameters " + (model.empty() ? std::string("MODEL") : model) +
+             "` lists every entry)";
     }
 
     void
@@ -201,7 +233,10 @@ namespace granflow
       }
     catch (const dealii::ExceptionBase &e)
       {
-        throw InputError(case_file + ": " + readable(one_line(e)));
+        const std::string message = readable(one_line(e));
+        const bool        unknown = message.find(": unknown ") != std::string::npos;
+        throw InputError(case_file + ": " + message +
+                         (unknown ? entries_hint(prm) : std::string()));
       }
     const std::filesystem::path case_directory = std::filesystem::path(case_file).parent_path();
     for (const std::string &entry : path_entries)
@@ -225,7 +260,11 @@ namespace granflow
           }
         catch (const dealii::ExceptionBase &e)
           {
-            throw InputError("--set " + o.path + "=" + o.value + ": " + readable(one_line(e)));
+            const std::string message = one_line(e);
+            if (message.find("you have not yet declared") != std::string::npos)
+              throw InputError("--set " + o.path + "=" + o.value + ": unknown entry '" + o.path +
+                               "'" + entries_hint(prm));
+            throw InputError("--set " + o.path + "=" + o.value + ": " + readable(message));
           }
       }
   }

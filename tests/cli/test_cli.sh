@@ -84,6 +84,13 @@ bad() { check "$1" 2 "$2" "$GRANFLOW" run "$case_file" --output keep --quiet "${
 printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n  set frobnication = 3\nend\n' >unknown_key.prm
 check unknown-key 2 "frobnication" "$GRANFLOW" run unknown_key.prm --output keep --quiet
 check unknown-key-names-file 2 "unknown_key.prm" "$GRANFLOW" run unknown_key.prm --output keep --quiet
+check unknown-key-says-where-to-look 2 "line 4: unknown entry 'frobnication' in its subsection (\`granflow print-parameters dp\`" \
+  "$GRANFLOW" run unknown_key.prm --output keep --quiet
+printf 'set Model = dp\nsubsection Rheolog\n  set mu = 0.5\nend\n' >unknown_subsection.prm
+check unknown-subsection 2 "unknown_subsection.prm: line 2: unknown subsection 'Rheolog'" "$GRANFLOW" run \
+  unknown_subsection.prm --output keep --quiet
+check unknown-set-entry 2 "--set Rheology/Friction=0.5: unknown entry 'Rheology/Friction'" "$GRANFLOW" run \
+  "$case_file" --output keep --quiet --set "Rheology/Friction=0.5"
 bad mu-negative "mu" --set "Rheology/mu=-0.1"
 bad Bi-negative "Bi" --set "Rheology/Bi=-1"
 bad Re-zero "Rheology/Re" --set "Rheology/Re=0"
@@ -248,6 +255,8 @@ ngf_bad blames-the-set "--set Material/mu_s=0" --set "Material/mu_s=0"
 ngf_bad entry-the-shape-ignores "does not apply to Geometry/Shape = shear column" --set "Loading/Wall rotation=40"
 check ngf-entry-the-annulus-row-ignores 2 "the annulus row's entry is Loading/Confining pressure" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet --set "Loading/Wall pressure=50"
+check ngf-gravity-the-annulus-row-ignores 2 "the annulus row of 6.2 has no gravity" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet --set "Material/Gravity=3"
 check ngf-inner-radius-huge 2 "Inner radius" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
   --output keep --quiet --set "Geometry/Inner radius=1e20"
 check ngf-element-too-large 2 "Geometry/Element size" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \

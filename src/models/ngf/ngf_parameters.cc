@@ -229,7 +229,10 @@ namespace granflow::ngf
           {"Loading/Wall displacement", loading.wall_displacement,
            defaults.loading.wall_displacement, column, "Loading/Wall rotation"},
           {"Loading/Wall rotation", loading.wall_rotation, defaults.loading.wall_rotation, annulus,
-           "Loading/Wall displacement"}};
+           "Loading/Wall displacement"},
+          // The annulus row of 6.2 has no gravity, so b_0 = phi rho_s G (27) does not enter it.
+          {"Material/Gravity", material.G, defaults.material.G, !row, nullptr},
+          {"Material/Solid fraction", material.phi, defaults.material.phi, !row, nullptr}};
       for (const auto &e : entries)
         if (!e.used && e.value != e.default_value)
           {
@@ -240,6 +243,9 @@ namespace granflow::ngf
               s << " (the " << geometry.shape << "'s entry is " << e.instead << ")";
             else if (gravity_annulus && std::string(e.entry).find("pressure") != std::string::npos)
               s << " (the annulus's pressure comes from gravity and Geometry/Height)";
+            else if (row)
+              s << " (the annulus row of 6.2 has no gravity: its pressure is "
+                   "Loading/Confining pressure)";
             throw InputError(f, e.entry, s.str());
           }
     }
