@@ -268,6 +268,19 @@ for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.c
   if [ -s "ngf_out/$f" ]; then pass "ngf output $f";
   else fail "ngf output $f missing"; fi
 done
+# W / d is reported with a warning where the band is narrower than an element (the local model)
+# or confined by the far wall (a shallow bed at a fast wall).
+check ngf-band-narrower-than-an-element 0 "warning: the shear band is narrower than one element" \
+  "$GRANFLOW" run "$ngf_case" --output ngf_local --set "Solver/Fluidity=local" --set "Output/Reference=none"
+check ngf-band-reaches-the-far-wall 0 "warning: the flow reaches the far boundary" "$GRANFLOW" run \
+  "$ngf_case" --output ngf_shallow --set "Geometry/Depth=4" --set "Loading/Wall speed=10"
+# An outward fluidity flux cannot be met at rest (g >= 0): the loading step says so, and the
+# summary has no mu_wall (null, not 0).
+check ngf-outward-flux-at-rest 3 "'wall: -100' (an outward flux of fluidity) has no solution" \
+  "$GRANFLOW" run "$ngf_case" --output ngf_flux --quiet --set "Output/Reference=none" \
+  --set "Fluidity boundary conditions/Neumann=wall: -100"
+if grep -q '"mu_wall": null' ngf_flux/summary.json; then pass "ngf mu_wall null before any increment";
+else fail "ngf mu_wall null before any increment"; fi
 # A run too short to yield ends normally but says it is not steady (summary.json and a warning).
 check ngf-not-steady 0 "warning: not steady over the last tenth of the run" "$GRANFLOW" run "$ngf_case" \
   --output ngf_short --set "Loading/Wall displacement=1e-4"

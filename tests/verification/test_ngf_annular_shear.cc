@@ -68,7 +68,10 @@ namespace
     test::expect_matches_reference(summary, dir, reference_solution(parameters, c.R_i, c.rate),
                                    parameters.material.nonlocal.d);
     EXPECT_TRUE(summary["steady_state"]["steady"].get<bool>()) << summary["steady_state"].dump();
-    EXPECT_TRUE(summary["warnings"].empty()) << summary["warnings"].dump();
+    // The one warning allowed is the one on the pressure at the inner wall, which the comment
+    // below explains (1.014 P_wall at R_i = 20 d, 1.001 at 100 d).
+    for (const auto &w : summary["warnings"])
+      EXPECT_EQ(w.get<std::string>().rfind("the mean pressure at the driven wall is", 0), 0U) << w;
   }
 
   // The FE's mu_wall is the wall's shear stress over the applied P_wall (the paper's definition,

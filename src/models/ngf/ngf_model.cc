@@ -136,7 +136,9 @@ namespace granflow::ngf
       void
       compute_reference();
       void
-      postprocess(nlohmann::json &summary, const Vector<double> &velocity);
+      /// The profiles, W, the wall pressure and their warnings (those on the band only for a run
+      /// that went to its end: `finished`).
+      postprocess(nlohmann::json &summary, const Vector<double> &velocity, bool finished);
       void
       write_vtu(const Vector<double> &velocity);
 
@@ -818,13 +820,14 @@ namespace granflow::ngf
       std::vector<double> h_disp, h_mu, h_iter; // per increment: the history.csv columns
       while (loading || u_wall < scale.u_end * (1. - 1e-12))
         {
-          // The last two increments share what is left when it is between 1 and 1.5 increments:
-          // a sliver at the end would move mu_wall by the increment-size dependence of the time
-          // integration (0.1 % between 0.005 d and 0.0025 d increments in the column).
+          // What is left is divided into equal increments of at most du, so that the run ends
+          // on increments of the size it has been taking: smaller ones at the end would move
+          // mu_wall by the increment-size dependence of the time integration (0.1 % between
+          // 0.005 d and 0.0025 d increments in the column, docs/ngf.md). With du fixed, this
+          // gives the same step at every increment to the end.
           const double remaining = scale.u_end - u_wall;
-          const double step      = loading                                  ? 0.
-                                   : remaining > du && remaining < 1.5 * du ? 0.5 * remaining
-                                                                            : std::min(du, remaining);
+          const double step =
+              loading ? 0. : remaining / std::max(1., std::ceil(remaining / du - 1e-9));
           const double dt   = (loading ? du : step) / scale.v_wall;
           // Predictor: continue the last increment's motion (the steady flow is then almost exact).
           // The slice turns about z, so its x and y rates are kept as (dr/dt, dphi/dt) of each
@@ -854,9 +857,18 @@ namespace granflow::ngf
                 {
                   std::ostringstream s;
                   if (loading)
-                    s << "Newton did not converge in the loading step (increment 0: gravity and "
-                         "wall pressure applied with the wall at rest), even over a time step of "
-                      << dt << " s";
+                    {
+                      s << "Newton did not converge in the loading step (increment 0: gravity and "
+                           "wall pressure applied with the wall at rest), even over a time step of "
+                        << dt << " s";
+                      // At rest the fluidity has no source, and an outward flux needs g < 0,
+                      // which the model excludes (g >= 0).
+                      for (const auto &[name, zeta] : prm.fluidity_neumann())
+                        if (zeta < 0.)
+                          s << "; the Neumann fluidity condition '" << name << ": " << zeta
+                            << "' (an outward flux of fluidity) has no solution with g >= 0 while "
+                               "the body is at rest";
+                    }
                   else
                     s << "Newton did not converge at wall displacement " << u_wall / d
                       << " d even with an increment of " << du / d << " d";
@@ -971,7 +983,9 @@ namespace granflow::ngf
           summary["R_i_over_d"]              = prm.geometry.inner_radius;
           summary["R_i_Omega_over_sqrt_G_d"] = prm.loading.wall_speed;
         }
-      summary["mu_wall"] = mu_wall;
+      // null until an increment past the loading step has converged (there is no wall reaction
+      // of a sheared state before)
+      summary["mu_wall"] = u_wall > 0. ? nlohmann::json(mu_wall) : nlohmann::json(nullptr);
       summary["newton"]  = {
            {"increments", increment},
            {"iterations", total_iterations},
@@ -1004,7 +1018,14 @@ namespace granflow::ngf
       // Steady flow starts where mu >= mu_s (g_loc = 0 below it, (22)), and mu is largest at the
       // driven wall in every geometry here: below mu_s there, the mesh does not resolve the flow
       // at the wall (g = 0 there on coarse meshes, docs/ngf.md) or the body has not yielded.
-      if (failure.empty() && mu_wall < prm.material.nonlocal.mu_s)
+      // A fluidity boundary condition that feeds fluidity in (g_wall > 0, zeta > 0) lets the
+      // material flow below mu_s, so the test applies only without one.
+      bool fluidity_source = false;
+      for (const auto &[name, g_wall] : prm.fluidity_dirichlet())
+        fluidity_source = fluidity_source || g_wall > 0.;
+      for (const auto &[name, zeta] : prm.fluidity_neumann())
+        fluidity_source = fluidity_source || zeta > 0.;
+      if (failure.empty() && !fluidity_source && mu_wall < prm.material.nonlocal.mu_s)
         {
           std::ostringstream w;
           w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
@@ -1013,7 +1034,7 @@ namespace granflow::ngf
                "wall needs h well below d, docs/ngf.md): refine Geometry/Element size";
           warn(w.str());
         }
-      postprocess(summary, v);
+      postprocess(summary, v, failure.empty());
       if (prm.output.write_vtu)
         write_vtu(v);
       std::vector<double> inc, it, ru, rg, cu, cg;
@@ -1099,7 +1120,7 @@ namespace granflow::ngf
 
     template <int dim>
     void
-    Problem<dim>::postprocess(nlohmann::json &summary, const Vector<double> &v)
+    Problem<dim>::postprocess(nlohmann::json &summary, const Vector<double> &v, const bool finished)
     {
       const double d = scale.d;
       // Nodal profile across the shear band, from the driven wall: along the edge x = y = 0 of the
@@ -1170,13 +1191,39 @@ namespace granflow::ngf
           }
       if (std::isnan(W))
         {
-          warn("the velocity does not decay to v_wall / e across the domain: no shear band, "
-               "shear_band_width_over_d is null (the body still loading elastically, or a band "
-               "wider than the domain)");
+          if (finished)
+            warn("the velocity does not decay to v_wall / e across the domain: no shear band, "
+                 "shear_band_width_over_d is null (the body still loading elastically, or a band "
+                 "wider than the domain)");
           summary["shear_band_width_over_d"] = nullptr;
         }
       else
-        summary["shear_band_width_over_d"] = W;
+        {
+          summary["shear_band_width_over_d"] = W;
+          // Inside the first element, W is where the linear interpolation between the wall node
+          // and the next one crosses v_wall / e: a property of the mesh (the local model's band,
+          // docs/ngf.md, or a nonlocal band finer than the mesh).
+          if (finished && W < scale.h / d)
+            {
+              std::ostringstream w;
+              w << "the shear band is narrower than one element (W/d = " << W
+                << " < h/d = " << scale.h / d
+                << "): W/d is interpolated inside the first element and depends on the mesh; "
+                   "refine Geometry/Element size";
+              warn(w.str());
+            }
+        }
+      // A band that reaches the far boundary, where v = 0 is imposed, is shaped by the size of
+      // the domain, not only by the material.
+      if (finished && vel.size() >= 2 && std::abs(vel[vel.size() - 2]) > 0.01)
+        {
+          std::ostringstream w;
+          w << "the flow reaches the far boundary: v / v_wall = " << vel[vel.size() - 2]
+            << " one element from it (at " << x[x.size() - 2]
+            << " d): the band is confined by the domain, and W/d and mu_wall depend on its size ("
+            << (column ? "Geometry/Depth" : "Geometry/Gap") << ")";
+          warn(w.str());
+        }
 
       std::vector<std::string> header = {
           column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
@@ -1201,7 +1248,9 @@ namespace granflow::ngf
             }
           header.push_back("v_over_v_wall_reference");
           columns.push_back(v_fd);
-          const double mu_wall = summary["mu_wall"];
+          const double mu_wall = summary["mu_wall"].is_number()
+                                     ? summary["mu_wall"].get<double>()
+                                     : std::numeric_limits<double>::quiet_NaN();
           summary["reference"] = {
               {"method", column
                              ? "finite difference of (90), 0.01 d grid"
@@ -1235,7 +1284,8 @@ namespace granflow::ngf
           p.push_back(pp / scale.P_wall);
           gloc.push_back(gl / g_unit);
         }
-      out.write_csv("profiles/stress.csv", {header[0], "mu", pressure_name(), "g_loc_scaled"},
+      out.write_csv("profiles/stress.csv",
+                    {header[0], "mu", pressure_name(), "g_loc" + header[2].substr(1)},
                     {xc, mu, p, gloc});
 
       // The pressure at the driven wall, extrapolated linearly from the two nearest element
@@ -1248,7 +1298,7 @@ namespace granflow::ngf
           for (std::size_t i = 0; i < xc.size(); ++i)
             by_x.emplace_back(xc[i], p[i]);
           std::sort(by_x.begin(), by_x.end());
-          if (by_x.size() >= 2)
+          if (by_x.size() >= 2 && summary["mu_wall"].is_number())
             {
               const auto [x0, p0]   = by_x[0];
               const auto [x1, p1]   = by_x[1];
@@ -1256,6 +1306,21 @@ namespace granflow::ngf
               const double mu_wall  = summary["mu_wall"];
               summary["wall_pressure_over_P_wall"] = p_wall;
               summary["mu_wall_local"]             = mu_wall / p_wall;
+              // The annulus row's inner wall is not pressed by a traction: the pressure there
+              // carries the elastic hoop stress of the loading, which relaxes only slowly under
+              // shearing, and not at all outside a band (the local model). 0.2 % is twice the
+              // steadiness tolerance of mu_wall.
+              if (finished && !column && std::abs(p_wall - 1.) > 2e-3)
+                {
+                  std::ostringstream w;
+                  w << "the mean pressure at the driven wall is " << p_wall
+                    << " P_wall, not the P_wall that the steady solution of (92) assumes: "
+                       "elastic stresses of the loading remain (they relax only slowly under "
+                       "shearing: Loading/Wall rotation); mu_wall, the wall's shear stress over "
+                       "P_wall as in the paper, includes them, mu_wall_local = tau / p = "
+                    << mu_wall / p_wall << " does not";
+                  warn(w.str());
+                }
             }
         }
     }
