@@ -82,8 +82,8 @@ namespace granflow
                 !fs::exists(fs::path(root) / relative))
               stale.push_back(entry.path());
           }
-    for (const auto &file : stale)
-      fs::remove(file);
+    // The new files first, then the earlier run's leftovers: a move that fails part-way leaves
+    // the earlier run's files that it did not replace in place.
     for (const auto &entry : fs::recursive_directory_iterator(root))
       {
         const fs::path target = fs::path(final_path) / fs::relative(entry.path(), root);
@@ -92,6 +92,8 @@ namespace granflow
         else
           fs::rename(entry.path(), target);
       }
+    for (const auto &file : stale)
+      fs::remove(file);
     fs::remove_all(root);
     root      = final_path;
     committed = true;

@@ -68,12 +68,6 @@ namespace granflow::rheology
         return (1. - x / 2. + x * x / 3. - x * x * x / 4.) / (1. + b);
       return std::log1p(x) / (a - b);
     }
-
-    SymTensor2
-    deviator(const SymTensor2 &A)
-    {
-      return dealii::deviator(A);
-    }
   } // namespace
 
   namespace

@@ -20,16 +20,18 @@ namespace granflow::solvers::detail
     }
 
     /// Records the residual of the current iterate, `elapsed` seconds into the solve, in `stats`.
-    /// Returns true if it is the least so far, which the caller keeps (a NaN counts as least, so
-    /// that any later residual replaces it).
+    /// Returns true if it is the least so far, which the caller keeps. The first iterate always
+    /// counts (even at an infinite residual, so that there is one to return), and a NaN counts
+    /// as least, so that any later residual replaces it.
     bool
     record(const double residual, const double elapsed)
     {
       stats.residual = residual;
       stats.residual_history.push_back(residual);
       stats.time_history.push_back(elapsed);
-      if (residual >= best_residual)
+      if (recorded && residual >= best_residual)
         return false;
+      recorded      = true;
       best_residual = residual;
       return true;
     }
@@ -66,5 +68,6 @@ namespace granflow::solvers::detail
     const ConeSolverOptions &options;
     ConeSolverStats         &stats;
     double                   best_residual = std::numeric_limits<double>::infinity();
+    bool                     recorded      = false;
   };
 } // namespace granflow::solvers::detail

@@ -794,10 +794,16 @@ namespace granflow::dp
       // Zones, judged on the scaled strain rate gamma the solver's residual measures: rigid where
       // ||gamma_T|| is zero to the solver tolerance (in a rigid zone the Alart-Curnier residual is
       // exactly -gamma_T), dilating where gamma_N exceeds it, flowing otherwise.
+      // gamma is the strain rate times twice the point's weight (about a third of a triangle's
+      // area with P1d), so in |D0| this threshold is 10 tol / (2 w_i): it grows as the mesh is
+      // refined at a fixed tolerance, and summary.json reports its range.
       const double threshold = 10. * prm.solver.tolerance;
       std::size_t  n_rigid = 0, n_flowing = 0, n_dilating = 0;
+      double       rigid_D0_min = std::numeric_limits<double>::infinity(), rigid_D0_max = 0.;
       for (std::size_t i = 0; i < n_points; ++i)
         {
+          rigid_D0_min    = std::min(rigid_D0_min, threshold / (2. * point_weight[i]));
+          rigid_D0_max    = std::max(rigid_D0_max, threshold / (2. * point_weight[i]));
           const double *g = &solution.gamma[i * s_d];
           if (g[0] > threshold)
             zone[i] = 2, ++n_dilating;
@@ -875,9 +881,13 @@ namespace granflow::dp
       // as in the ngf summary: whether the run reached its tolerance, and whether a signal ended it
       S["converged"]    = solver_json.value("converged", false);
       S["interrupted"]  = solver_json.value("interrupted", false);
-      S["zones"]        = {{"rigid_points", n_rigid}, {"flowing_points", n_flowing},
-                           {"dilating_points", n_dilating}, {"max_div_u", max_div},
-                           {"max_deviatoric_strain_rate", max_D0}};
+      S["zones"]        = {{"rigid_points", n_rigid},
+                           {"flowing_points", n_flowing},
+                           {"dilating_points", n_dilating},
+                           {"max_div_u", max_div},
+                           {"max_deviatoric_strain_rate", max_D0},
+                           {"rigid_means_deviatoric_strain_rate_below",
+                            {{"min", rigid_D0_min}, {"max", rigid_D0_max}}}};
       S["pressure"]     = {{"min", *std::min_element(p.begin(), p.end())},
                            {"max", *std::max_element(p.begin(), p.end())}};
 

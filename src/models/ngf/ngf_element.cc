@@ -208,6 +208,10 @@ namespace granflow::ngf
                 out.residual[i] += contract(T, H[i]) * dv - work * dV;
                 out.magnitude[i] += std::abs(contract(T, H[i]) * dv) + std::abs(work * dV);
               }
+            // The local variant has no fluidity equation (its g rows are constrained, and its
+            // update leaves xi unset): nothing to add there.
+            if (local)
+              continue;
             out.residual[4 * a + 3] += (grad_g * dN[a] + N[a] * pt.g_res) * dv;
             out.magnitude[4 * a + 3] +=
                 (std::abs(grad_g * dN[a]) + N[a] * (std::abs(g) + pt.g_loc) / (pt.xi * pt.xi)) * dv;

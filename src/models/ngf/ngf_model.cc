@@ -62,6 +62,7 @@ namespace granflow::ngf
 
     private:
       const bool column; // the shear column (6.1)
+      const bool row;    // the annulus row (6.2, no gravity)
       const bool slice;  // the 3D annulus slice (6.3)
       // boundary ids: of GridGenerator::subdivided_hyper_rectangle with colorize = true for the
       // column and the quad section; the slice is renumbered to the quad's ids plus its two
@@ -122,8 +123,7 @@ namespace granflow::ngf
       std::string
       pressure_name() const
       {
-        return column || prm.geometry.shape == "annulus row" ? "p_over_P_wall"
-                                                             : "p_over_phi_rho_s_G_H";
+        return column || row ? "p_over_P_wall" : "p_over_phi_rho_s_G_H";
       }
       /// mu_wall from the reactions where the wall motion is prescribed (Henann 6.1, 6.2).
       double
@@ -171,6 +171,7 @@ namespace granflow::ngf
     template <int dim>
     Problem<dim>::Problem(const Parameters &prm, OutputDirectory &out, Logger &log)
         : column(prm.geometry.shape == "shear column")
+        , row(prm.geometry.shape == "annulus row")
         , slice(prm.geometry.shape == "annulus slice")
         , wall_id(column ? 4 : 0)
         , outer_id(column ? 5 : 1)
@@ -386,7 +387,7 @@ namespace granflow::ngf
           fix(wall_id, 0, 0.);
           fix(wall_id, twist, u_wall / scale.R_i);
           fix(outer_id, twist, 0.);
-          if (prm.geometry.shape == "annulus row")
+          if (row)
             {
               // 6.2: u_z = 0 in the whole model
               for (types::global_dof_index i = 0; i < dof_component.size(); ++i)
@@ -548,8 +549,7 @@ namespace granflow::ngf
             for (const auto &[bid, value] : g_neumann)
               if (bid == id)
                 zeta = value;
-            const bool pressed =
-                column ? id == wall_id : (id == outer_id && prm.geometry.shape == "annulus row");
+            const bool pressed = column ? id == wall_id : (id == outer_id && row);
             if (!pressed && zeta == 0.)
               continue;
             FEFaceValues<dim> &face = scratch.face;
@@ -746,8 +746,7 @@ namespace granflow::ngf
         reaction += unconstrained_residual[i];
       if (column)
         return reaction / (scale.h * scale.h) / scale.P_wall;
-      const double pressure =
-          prm.geometry.shape == "annulus row" ? scale.P_wall : 0.5 * scale.P_wall;
+      const double pressure = row ? scale.P_wall : 0.5 * scale.P_wall;
       return reaction / (scale.R_i * scale.R_i * scale.H) / pressure;
     }
 
@@ -973,7 +972,7 @@ namespace granflow::ngf
           summary["P_wall_over_phi_rho_s_G_d"] = prm.loading.wall_pressure;
           summary["v_wall_over_sqrt_G_d"]      = prm.loading.wall_speed;
         }
-      else if (prm.geometry.shape == "annulus row")
+      else if (row)
         {
           summary["R_i_over_d"]                       = prm.geometry.inner_radius;
           summary["R_i_Omega_sqrt_rho_s_over_P_wall"] = prm.loading.wall_speed;
@@ -1133,8 +1132,7 @@ namespace granflow::ngf
           return x[0] < 1e-9 * scale.h && x[1] < 1e-9 * scale.h;
         if (slice)
           return std::abs(x[1]) < 1e-9 * scale.h && x[dim - 1] > scale.H * (1. - 1e-9);
-        return prm.geometry.shape == "annulus row" ? x[1] < 1e-9 * scale.H
-                                                                  : x[1] > scale.H * (1. - 1e-9);
+        return row ? x[1] < 1e-9 * scale.H : x[1] > scale.H * (1. - 1e-9);
       };
       struct NodeValues
       {
@@ -1169,8 +1167,7 @@ namespace granflow::ngf
             node.u           = phi; // the angle of rotation theta
           }
       // g in units of sqrt(G / d) (with gravity) or sqrt(P_wall / (rho_s d^2)) (annulus row)
-      const double        g_unit = prm.geometry.shape == "annulus row"
-                                       ? std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d
+      const double        g_unit = row ? std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d
                                        : std::sqrt(prm.material.G / d);
       std::vector<double> x, vel, g, u;
       for (const auto &[distance, node] : by_distance)
@@ -1227,8 +1224,7 @@ namespace granflow::ngf
 
       std::vector<std::string> header = {
           column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
-          prm.geometry.shape == "annulus row" ? "g_d_sqrt_rho_s_over_P_wall" : "g_sqrt_d_over_G",
-          column ? "u_x_over_d" : "theta"};
+          row ? "g_d_sqrt_rho_s_over_P_wall" : "g_sqrt_d_over_G", column ? "u_x_over_d" : "theta"};
       std::vector<std::vector<double>> columns = {x, vel, g, u};
       if (reference)
         {
@@ -1269,7 +1265,7 @@ namespace granflow::ngf
       for (const auto &cell : tria.active_cell_iterators())
         {
           const Point<dim> c = cell->center();
-          if (!column && prm.geometry.shape != "annulus row" && c[dim - 1] < scale.H - scale.h)
+          if (!column && !row && c[dim - 1] < scale.H - scale.h)
             continue; // the annulus: the surface row
           const auto &pts = points[cell->active_cell_index()];
           double      m = 0., pp = 0., gl = 0.;
@@ -1292,7 +1288,7 @@ namespace granflow::ngf
       // centres (exact for the column's hydrostatic gradient). mu_wall is the wall shear stress
       // over the applied P_wall, as in the paper; the local ratio tau / p at the wall differs from
       // it where the mean pressure p there is not P_wall (the annulus: about 1.005 P_wall).
-      if (column || prm.geometry.shape == "annulus row")
+      if (column || row)
         {
           std::vector<std::pair<double, double>> by_x;
           for (std::size_t i = 0; i < xc.size(); ++i)

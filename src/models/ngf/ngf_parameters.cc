@@ -365,7 +365,7 @@ namespace granflow::ngf
     else
       {
         s.n_2    = elements(geometry.height);
-        s.H      = s.n_2 * (geometry.height * d / s.n_2);
+        s.H      = geometry.height * d;
         s.P_wall = s.body_force * s.H; // hydrostatic pressure at the floor, the scale of Fig. 6
         s.v_wall = loading.wall_speed * std::sqrt(m.G * d);
       }
