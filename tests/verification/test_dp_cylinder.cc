@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <fstream>
 
 TEST(CylinderFlow, WakeHasZeroPressureAndDilatesAndDragIsReported)
 {
@@ -124,4 +125,66 @@ TEST(DragForce, TheTwoStressElementsAgreeOnTheCylinder)
     }
   EXPECT_NEAR(total[1], total[0], 0.01 * total[0]);
   EXPECT_NEAR(drag[1], drag[0], 0.12 * drag[0]);
+}
+
+TEST(DragForce, CornerReactionsAreSharedBetweenTheWallsThatMeetThere)
+{
+  // The same channel on a mesh whose bottom wall is two boundaries, b1 (x < 0) and b2 (x > 0):
+  // each half carries half of what the whole wall does, 0.5 in all and Bi / 2 in lambda. The node
+  // at x = 0 belongs to both; when each took its whole reaction, they carried 0.517 each.
+  const std::string mesh_file = ::testing::TempDir() + "/split_channel.msh";
+  {
+    const int     nx = 10, ny = 20;
+    std::ofstream msh(mesh_file);
+    msh << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n6\n1 1 \"b1\"\n1 2 \"b2\"\n"
+           "1 3 \"top\"\n1 4 \"inlet\"\n1 5 \"outlet\"\n2 6 \"domain\"\n$EndPhysicalNames\n";
+    const auto node = [&](int i, int j) { return 1 + i + (nx + 1) * j; };
+    msh << "$Nodes\n" << (nx + 1) * (ny + 1) << "\n";
+    for (int j = 0; j <= ny; ++j)
+      for (int i = 0; i <= nx; ++i)
+        msh << node(i, j) << " " << -0.5 + double(i) / nx << " " << -1. + 2. * j / ny << " 0\n";
+    msh << "$EndNodes\n$Elements\n" << 2 * nx + 2 * ny + 2 * nx * ny << "\n";
+    int e = 0;
+    // element: type (1 line, 2 triangle), 2 tags (physical, elementary), nodes
+    const auto element = [&](int type, int physical, std::initializer_list<int> nodes) {
+      msh << ++e << " " << type << " 2 " << physical << " " << physical;
+      for (const int n : nodes)
+        msh << " " << n;
+      msh << "\n";
+    };
+    for (int i = 0; i < nx; ++i)
+      {
+        element(1, i < nx / 2 ? 1 : 2, {node(i, 0), node(i + 1, 0)});
+        element(1, 3, {node(i, ny), node(i + 1, ny)});
+      }
+    for (int j = 0; j < ny; ++j)
+      {
+        element(1, 4, {node(0, j), node(0, j + 1)});
+        element(1, 5, {node(nx, j), node(nx, j + 1)});
+      }
+    for (int j = 0; j < ny; ++j)
+      for (int i = 0; i < nx; ++i)
+        {
+          element(2, 6, {node(i, j), node(i + 1, j), node(i + 1, j + 1)});
+          element(2, 6, {node(i, j), node(i + 1, j + 1), node(i, j + 1)});
+        }
+    msh << "$EndElements\n";
+  }
+  const double Bi    = 0.5;
+  double       total = 0.;
+  for (const char *wall : {"b1", "b2"})
+    {
+      const auto s = run_dp("bingham_poiseuille.prm",
+                            {{"Geometry/Shape", "file"},
+                             {"Geometry/Mesh file", mesh_file},
+                             {"Boundary conditions/No-slip", "b1, b2, top"},
+                             {"Output/Drag boundary", wall},
+                             {"Output/Write vtu", "false"}},
+                            std::string("drag_split_") + wall);
+      ASSERT_TRUE(s["solver"]["converged"].get<bool>());
+      EXPECT_NEAR(s["boundary_force"][0].get<double>(), 0.5, 2e-3) << wall;
+      EXPECT_NEAR(s["drag"].get<double>(), 0.5 * Bi, 2e-3) << wall;
+      total += s["boundary_force"][0].get<double>();
+    }
+  EXPECT_NEAR(total, 1., 1e-3);
 }

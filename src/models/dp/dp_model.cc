@@ -123,6 +123,8 @@ namespace granflow::dp
       QGaussSimplex<dim> quadrature{3};
 
       std::map<types::global_dof_index, double> dirichlet;  // dof -> u_D
+      /// The boundaries whose velocity is prescribed, with the components they fix.
+      std::vector<std::pair<types::boundary_id, ComponentMask>> velocity_boundaries;
       std::vector<int>                          free_index; // dof -> free dof or -1
       std::size_t                               n_free = 0;
       std::size_t                               n_points = 0;
@@ -494,6 +496,7 @@ namespace granflow::dp
                  mapping, dof_u, mesh.id(name, prm.case_file, entry),
                  Functions::ZeroFunction<dim>(dim), values, mask);
             dirichlet.insert(values.begin(), values.end());
+            velocity_boundaries.emplace_back(mesh.id(name, prm.case_file, entry), mask);
           }
       };
       add(bc.no_slip, "Boundary conditions/No-slip", ComponentMask());
@@ -1007,6 +1010,41 @@ namespace granflow::dp
           S["drag"]                    = F_D;
           S["boundary_force"]          = {force[0], force[1]};
           S["boundary_force_viscous"]  = {-viscous[0], -viscous[1]};
+          // Only the velocity is unique (4.4.4): where the material is rigid, any stress inside
+          // the cones that balances the loads will do, and the methods pick different ones (the
+          // silo's wall: vertical force +8.7 from the interior point, -5.8 from the fixed
+          // point). The force on a boundary that rigid material touches is then not determined.
+          std::size_t touching = 0, rigid = 0;
+          {
+            std::vector<types::global_dof_index> sdofs(fe_s.n_dofs_per_cell());
+            for (const auto &cell : dof_s.active_cell_iterators())
+              {
+                bool on_boundary = false;
+                for (const unsigned int f : cell->face_indices())
+                  on_boundary = on_boundary || (cell->face(f)->at_boundary() &&
+                                                cell->face(f)->boundary_id() == id);
+                if (!on_boundary)
+                  continue;
+                cell->get_dof_indices(sdofs);
+                for (unsigned int k = 0; k < 3; ++k)
+                  {
+                    const std::size_t i = p1d ? cell->active_cell_index() * 3 + k : sdofs[k];
+                    ++touching;
+                    rigid += zone[i] == 0;
+                  }
+              }
+          }
+          const double rigid_fraction  = double(rigid) / std::max<std::size_t>(touching, 1);
+          S["boundary_rigid_fraction"] = rigid_fraction;
+          if (rigid_fraction > 0.1)
+            {
+              std::ostringstream w;
+              w << "dp: note: " << 100. * rigid_fraction << " % of the constraint points next to '"
+                << prm.output.drag_boundary
+                << "' are rigid; the stress in a rigid zone is not unique (only the velocity is, "
+                   "Daviet 4.4.4), so boundary_force and drag depend on the solver there\n";
+              log.print(w.str());
+            }
           // The trace of the stress field, lambda n = (lambda_xx n_x + lambda_xy n_y) with lambda =
           // chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]]: the earlier estimate,
           // kept for comparison. It is constrained only at its points; with P1d it moved by 50 %
@@ -1015,20 +1053,26 @@ namespace granflow::dp
           l_xx += stress_fields["lambda_1"];
           S["drag_from_stress_trace"] = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
                                         postprocess::boundary_flux(mapping, dof_s, l_xy, id)[1];
-          if (prm.geometry.shape != "cylinder channel")
+          // U_infinity is the inflow's mean speed on any mesh, positive into the domain.
+          double U_inf = 0.;
+          if (!prm.output.inflow_boundary.empty())
             {
-              // U_infinity is the inflow's mean speed on any mesh; the wake, the arch and C_D
-              // below are those of the cylinder channel (its diameter, centred at the origin).
-              if (!prm.output.inflow_boundary.empty())
-                {
-                  const auto [flux, length] = postprocess::boundary_normal_flux(
-                      mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
-                  S["U_infinity"] = -flux / length;
-                }
-              return;
+              const auto [flux, length] = postprocess::boundary_normal_flux(
+                  mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
+              U_inf           = -flux / length;
+              S["U_infinity"] = U_inf;
             }
-          // Daviet 6.3.2 (Fig. 14), with the cylinder centred at the origin and the flow along +x:
-          // the wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
+          // The wake, the arch, Fr and C_D are those of the cylinder channel's cylinder (its
+          // diameter, centred at the origin): Daviet 6.3.2 (Fig. 14) and 6.3.1.
+          if (prm.geometry.shape != "cylinder channel" || prm.output.drag_boundary != "cylinder")
+            return;
+          // The flow runs along +x, or along -x where the inflow's speed is negative (the
+          // 'inlet' is then the outlet): the wake is behind the cylinder along the flow. A jammed
+          // channel (|U_inf| below 1e-5 sqrt(g L), the solver's accuracy in u) has no direction
+          // and no dynamic pressure to scale C_D by.
+          const bool   jammed = !prm.output.inflow_boundary.empty() && std::abs(U_inf) < 1e-5;
+          const double along  = U_inf < 0. && !jammed ? -1. : 1.;
+          // The wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
           // divergence; the pressure peak on the centreline upstream (the arch) is located.
           const double R = 0.5 * prm.geometry.cylinder_diameter;
           double       wake_p = 0., wake_div = 0., wake_min_div = 1e300;
@@ -1036,17 +1080,18 @@ namespace granflow::dp
           std::map<int, std::pair<double, int>> centreline; // bins of width R/4 upstream
           for (std::size_t i = 0; i < n_points; ++i)
             {
-              const Point<dim> &x = point_location[i];
-              if (x[0] > R && x[0] < 3. * R && std::abs(x[1]) < R)
+              const Point<dim> &y = point_location[i];
+              const double      x = along * y[0]; // downstream coordinate
+              if (x > R && x < 3. * R && std::abs(y[1]) < R)
                 {
                   wake_p = std::max(wake_p, p[i]);
                   wake_div += div_u[i];
                   wake_min_div = std::min(wake_min_div, div_u[i]);
                   ++wake_points;
                 }
-              if (x[0] < -R && std::abs(x[1]) < 0.25 * R)
+              if (x < -R && std::abs(y[1]) < 0.25 * R)
                 {
-                  auto &bin = centreline[static_cast<int>(std::floor(x[0] / (0.25 * R)))];
+                  auto &bin = centreline[static_cast<int>(std::floor(x / (0.25 * R)))];
                   bin.first += p[i];
                   ++bin.second;
                 }
@@ -1062,16 +1107,24 @@ namespace granflow::dp
                        {"max_pressure", wake_p},
                        {"mean_div_u", wake_div / std::max<std::size_t>(wake_points, 1)},
                        {"min_div_u", wake_min_div}};
-          S["upstream_pressure_peak"] = {{"x", peak_x}, {"mean_pressure", peak_p},
-                                          {"distance_from_cylinder_over_D", (-peak_x - R) / (2. * R)}};
+          S["upstream_pressure_peak"] = {
+              {"x", along * peak_x},
+              {"mean_pressure", peak_p},
+              {"distance_from_cylinder_over_D", (-peak_x - R) / (2. * R)}};
           if (!prm.output.inflow_boundary.empty())
             {
-              const auto [flux, length] = postprocess::boundary_normal_flux(
-                mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
-              const double U_inf = -flux / length, D = prm.geometry.cylinder_diameter;
-              S["U_infinity"]        = U_inf;
-              S["Froude"]            = U_inf / std::sqrt(D);
-              S["drag_coefficient"]  = F_D / (0.5 * U_inf * U_inf * D);
+              const double D = prm.geometry.cylinder_diameter;
+              S["Froude"]    = std::abs(U_inf) / std::sqrt(D);
+              // C_D of the drag along the flow
+              if (jammed)
+                {
+                  S["drag_coefficient"] = nullptr;
+                  S["jammed"]           = true;
+                  log.print("dp: note: the flow is jammed (U_infinity = " + std::to_string(U_inf) +
+                            "): drag_coefficient is null\n");
+                }
+              else
+                S["drag_coefficient"] = along * F_D / (0.5 * U_inf * U_inf * D);
             }
         }
     }
@@ -1082,9 +1135,50 @@ namespace granflow::dp
     /// F . e = -(a(u, v) - <lambda, gamma(v)> - l(v)). This is the variationally consistent flux,
     /// which converges with the velocity; the trace lambda n of the P1d stress, whose vertex values
     /// oscillate, moved by 50 % under refinement of the cylinder channel.
+    ///
+    /// A dof where this boundary meets another one whose velocity is prescribed (a corner) carries
+    /// the reaction of both: each boundary takes the share of it that its faces have in the
+    /// integral of the dof's shape function over all such faces, so that the forces on the
+    /// boundaries add up to the total (the whole corner reaction went to each of them, which
+    /// counted it twice: 0.517 on each half of a split Bingham wall that carries 0.5).
     Tensor<1, dim>
     Problem::boundary_force(const types::boundary_id id) const
     {
+      // dof -> int of its shape function over the faces of `id`, and over the faces of every
+      // boundary that fixes its component
+      std::map<types::global_dof_index, double> on_id, on_all;
+      {
+        const QGauss<dim - 1> face_quadrature(3);
+        FEFaceValues<dim> fvf(mapping, fe_u, face_quadrature, update_values | update_JxW_values);
+        std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell());
+        for (const auto &cell : dof_u.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            {
+              if (!cell->face(f)->at_boundary())
+                continue;
+              const types::boundary_id b = cell->face(f)->boundary_id();
+              std::vector<bool>        fixed(dim, false);
+              for (const auto &[vb, mask] : velocity_boundaries)
+                if (vb == b)
+                  for (unsigned int c = 0; c < dim; ++c)
+                    fixed[c] = fixed[c] || mask[c];
+              if (std::none_of(fixed.begin(), fixed.end(), [](bool x) { return x; }))
+                continue;
+              fvf.reinit(cell, f);
+              cell->get_dof_indices(dofs);
+              for (unsigned int k = 0; k < fe_u.n_dofs_per_cell(); ++k)
+                {
+                  if (!fixed[fe_u.system_to_component_index(k).first])
+                    continue;
+                  double integral = 0.;
+                  for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                    integral += fvf.shape_value(k, q) * fvf.JxW(q);
+                  on_all[dofs[k]] += integral;
+                  if (b == id)
+                    on_id[dofs[k]] += integral;
+                }
+            }
+      }
       Tensor<1, dim> force;
       for (unsigned int c = 0; c < dim; ++c)
         {
@@ -1105,7 +1199,8 @@ namespace granflow::dp
               if (const auto column = H_constrained.find(i); column != H_constrained.end())
                 for (const auto &[k, h] : column->second)
                   r -= h * solution.lambda[k];
-              force[c] -= r;
+              const double all = on_all[i];
+              force[c] -= r * (all > 0. ? on_id[i] / all : 1.);
             }
         }
       return force;
