@@ -78,6 +78,7 @@ namespace granflow::solvers
     bool         converged            = false;
     bool         interrupted           = false; // ended by options.stop_requested
     bool         stalled               = false; // interior point: ended by its stagnation rules
+    bool         timed_out             = false; // ended by options.max_seconds
     unsigned int outer_iterations     = 0;
     unsigned int inner_iterations     = 0; // summed over the outer iterations
     unsigned int operator_applications = 0; // applications of W (one A^{-1} back-solve each);

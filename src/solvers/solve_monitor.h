@@ -54,8 +54,8 @@ namespace granflow::solvers::detail
           stats.interrupted = true;
           return true;
         }
-      return stats.outer_iterations == options.max_outer_iterations ||
-             (options.max_seconds > 0. && stats.time_history.back() > options.max_seconds);
+      stats.timed_out = options.max_seconds > 0. && stats.time_history.back() > options.max_seconds;
+      return stats.outer_iterations == options.max_outer_iterations || stats.timed_out;
     }
 
     double

@@ -644,6 +644,10 @@ namespace granflow::dp
       make_mesh();
       setup();
       assemble_constraint_operator();
+      if (prm.rheology.Bi > 0. && prm.solver.residual != "alart-curnier")
+        log.print("dp: note: Bi > 0, so the residual is Alart-Curnier's (f_AC, Definition 2), not "
+                  "the " +
+                  prm.solver.residual + " of Solver/Residual, which covers Bi = 0 only\n");
 
       const std::size_t n_qp = mesh.triangulation.n_active_cells() * quadrature.size();
       std::vector<double> eta(n_qp, 1.);
@@ -708,6 +712,7 @@ namespace granflow::dp
                      {"converged", stats.converged},
                      {"interrupted", stats.interrupted},
                      {"stalled", stats.stalled},
+                     {"timed_out", stats.timed_out},
                      {"residual", stats.residual},
                      {"viscosity_iterations", viscosity_iterations},
                      {"viscosity_relative_change", change},
@@ -742,6 +747,10 @@ namespace granflow::dp
               << " iterations: its steps fell below 1e-4 or 50 iterations gained less than 10 % "
                  "(docs/solvers.md), which higher limits do not change; a looser Solver/Tolerance, "
                  "another mesh or Solver/Method = fixed point may. ";
+          else if (stats.timed_out)
+            s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds
+              << " at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
+              << ") after " << stats.outer_iterations << " iterations. ";
           else
             s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
               << stats.residual << " after " << stats.outer_iterations << " iterations; raise "
@@ -998,6 +1007,15 @@ namespace granflow::dp
         }
       out.write_csv("profiles/velocity.csv", header, columns);
 
+      // U_infinity is the inflow's mean speed on any mesh, positive into the domain.
+      double U_inf = 0.;
+      if (!prm.output.inflow_boundary.empty())
+        {
+          const auto [flux, length] = postprocess::boundary_normal_flux(
+              mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
+          U_inf           = -flux / length;
+          S["U_infinity"] = U_inf;
+        }
       if (!prm.output.drag_boundary.empty())
         {
           // The material's force on the boundary, int (lambda - 2/Re eta D^b(u)) n (23), from the
@@ -1053,15 +1071,6 @@ namespace granflow::dp
           l_xx += stress_fields["lambda_1"];
           S["drag_from_stress_trace"] = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
                                         postprocess::boundary_flux(mapping, dof_s, l_xy, id)[1];
-          // U_infinity is the inflow's mean speed on any mesh, positive into the domain.
-          double U_inf = 0.;
-          if (!prm.output.inflow_boundary.empty())
-            {
-              const auto [flux, length] = postprocess::boundary_normal_flux(
-                  mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
-              U_inf           = -flux / length;
-              S["U_infinity"] = U_inf;
-            }
           // The wake, the arch, Fr and C_D are those of the cylinder channel's cylinder (its
           // diameter, centred at the origin): Daviet 6.3.2 (Fig. 14) and 6.3.1.
           if (prm.geometry.shape != "cylinder channel" || prm.output.drag_boundary != "cylinder")
