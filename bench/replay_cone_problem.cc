@@ -117,13 +117,13 @@ main(int argc, char **argv)
     }
   if (names.empty())
     names = {"pg", "apgd", "spg"};
-  double max_seconds = 0.;
-  if (const char *t = std::getenv("GRANFLOW_REPLAY_MAX_SECONDS"))
+  double max_seconds = 0.; // 0, unset or empty: no limit, as Solver/Max seconds = 0
+  if (const char *t = std::getenv("GRANFLOW_REPLAY_MAX_SECONDS"); t && *t && std::string(t) != "0")
     {
       const auto value = parse_positive(t);
       if (!value)
         return bad_input("GRANFLOW_REPLAY_MAX_SECONDS='" + std::string(t) +
-                         "' is not a positive number of seconds");
+                         "' is not a number of seconds (> 0, or 0 for no limit)");
       max_seconds = *value;
     }
 

@@ -4,6 +4,7 @@
 
 #include <deal.II/base/exceptions.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -128,7 +129,11 @@ namespace granflow
               message, m,
               std::regex(
                   R"(Line <(\d+)> of file <.*There is no such subsection to be entered: (.*)$)")))
-        return "line " + std::string(m[1]) + ": unknown subsection '" + std::string(m[2]) + "'";
+        {
+          std::string path = m[2]; // deal.II joins the path with '.', the project with '/'
+          std::replace(path.begin(), path.end(), '.', '/');
+          return "line " + std::string(m[1]) + ": unknown subsection '" + path + "'";
+        }
       return message;
     }
 

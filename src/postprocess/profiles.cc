@@ -72,17 +72,15 @@ namespace granflow::postprocess
     return result;
   }
 
-  std::pair<double, double>
-  boundary_normal_flux(const Mapping<2>        &mapping,
-                       const DoFHandler<2>     &dof_handler,
-                       const Vector<double>    &velocity,
-                       const types::boundary_id id)
+  BoundaryFlux
+  boundary_normal_flux(const Mapping<2> &mapping, const DoFHandler<2> &dof_handler,
+                       const Vector<double> &velocity, const types::boundary_id id)
   {
     QGauss<1>       quadrature(3);
     FEFaceValues<2> fv(mapping, dof_handler.get_fe(), quadrature,
                        update_values | update_normal_vectors | update_JxW_values);
     std::vector<Vector<double>> u(quadrature.size(), Vector<double>(2));
-    double                      flux = 0., length = 0.;
+    BoundaryFlux                result;
     for (const auto &cell : dof_handler.active_cell_iterators())
       for (const unsigned int face : cell->face_indices())
         if (cell->face(face)->at_boundary() && cell->face(face)->boundary_id() == id)
@@ -91,10 +89,15 @@ namespace granflow::postprocess
             fv.get_function_values(velocity, u);
             for (unsigned int q = 0; q < quadrature.size(); ++q)
               {
-                flux += (u[q][0] * fv.normal_vector(q)[0] + u[q][1] * fv.normal_vector(q)[1]) * fv.JxW(q);
-                length += fv.JxW(q);
+                result.flux +=
+                    (u[q][0] * fv.normal_vector(q)[0] + u[q][1] * fv.normal_vector(q)[1]) *
+                    fv.JxW(q);
+                result.length += fv.JxW(q);
+                result.mean_u_x += u[q][0] * fv.JxW(q);
               }
           }
-    return {flux, length};
+    if (result.length > 0.)
+      result.mean_u_x /= result.length;
+    return result;
   }
 } // namespace granflow::postprocess

@@ -37,10 +37,13 @@ namespace granflow::postprocess
                 const dealii::Vector<double> &field,
                 dealii::types::boundary_id    id);
 
-  /// (int_Gamma u . n dS, |Gamma|) of a 2-component vector FE field over boundary `id`.
-  std::pair<double, double>
-  boundary_normal_flux(const dealii::Mapping<2>     &mapping,
-                       const dealii::DoFHandler<2>  &dof_handler,
-                       const dealii::Vector<double> &velocity,
-                       dealii::types::boundary_id    id);
+  /// Of a 2-component vector FE field u over boundary `id`: int_Gamma u . n dS (n outward),
+  /// |Gamma|, and the mean of u_x over Gamma (which way a channel flow runs through it).
+  struct BoundaryFlux
+  {
+    double flux = 0., length = 0., mean_u_x = 0.;
+  };
+  BoundaryFlux
+  boundary_normal_flux(const dealii::Mapping<2> &mapping, const dealii::DoFHandler<2> &dof_handler,
+                       const dealii::Vector<double> &velocity, dealii::types::boundary_id id);
 } // namespace granflow::postprocess

@@ -75,6 +75,12 @@ then pass "refined cylinder is round"; else fail "refined cylinder"; fi
 
 # The silo of Table 2 on its default mesh: the interior point reaches the case's 1e-6 (exit 0; an
 # unconverged solve would exit 3).
+# A jammed cylinder channel (outlet pressure 1.5) has no C_D (it printed 1.2e14).
+check cylinder-jammed 0 "the flow is jammed" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/cylinder.prm" \
+  --output jammed --set "Geometry/Mesh size=0.1" --set "Solver/Method=interior point" \
+  --set "Boundary conditions/External pressure=outlet: 1.5" --set "Output/Write vtu=false"
+if grep -q '"jammed": true' jammed/summary.json && grep -q '"drag_coefficient": null' jammed/summary.json; then
+  pass "jammed channel has no C_D"; else fail "jammed channel has no C_D"; fi
 check silo-interior-point 0 "Results in silo" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
   --output silo --quiet --set "Output/Write vtu=false"
 

@@ -33,6 +33,36 @@ TEST(CylinderFlow, WakeHasZeroPressureAndDilatesAndDragIsReported)
   // analytic wall forces in DragForce, and between two solvers below.)
 }
 
+TEST(CylinderFlow, MirroredFlowHasItsWakeDownstreamWhicheverEndIsNamedInflow)
+{
+  // The channel driven along -x (gravity and the pressures mirrored): the wake is at x < 0, and
+  // C_D is the drag along the flow, positive, whether the inflow boundary named is the end the
+  // material enters by ('outlet' here) or the other one.
+  const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/daviet2016/cylinder.prm";
+  for (const char *inflow : {"outlet", "inlet"})
+    {
+      const auto parameters = granflow::dp::load_parameters(
+          case_file, {{"Output/Write vtu", "false"},
+                      {"Geometry/Mesh size", "0.1"},
+                      {"Solver/Method", "interior point"},
+                      {"Gravity direction", "-1, 0"},
+                      {"Boundary conditions/External pressure", "inlet: 0.5, outlet: 0"},
+                      {"Output/Inflow boundary", inflow}});
+      const std::string dir = ::testing::TempDir() + "/granflow_cylinder_mirrored_" + inflow;
+      std::filesystem::remove_all(dir);
+      granflow::OutputDirectory out(dir);
+      granflow::Logger          log(out.file("log.txt"), false);
+      const auto                s = granflow::dp::run(parameters, out, log).summary;
+      ASSERT_TRUE(s["solver"]["converged"].get<bool>()) << inflow;
+      EXPECT_LT(s["drag"].get<double>(), 0.) << inflow; // F_D . e_x: the flow pushes along -x
+      EXPECT_LE(s["wake"]["max_pressure"].get<double>(), 1e-6 * s["pressure"]["max"].get<double>())
+          << inflow;
+      EXPECT_GT(s["wake"]["min_div_u"].get<double>(), 0.) << inflow;
+      EXPECT_GT(s["upstream_pressure_peak"]["x"].get<double>(), 0.) << inflow;
+      EXPECT_GT(s["drag_coefficient"].get<double>(), 0.) << inflow;
+    }
+}
+
 TEST(CylinderFlow, InteriorPointAndFixedPointGiveTheSameFlow)
 {
   // Two independent methods: the interior point works on the whole problem, the fixed point on a
@@ -129,9 +159,10 @@ TEST(DragForce, TheTwoStressElementsAgreeOnTheCylinder)
 
 TEST(DragForce, CornerReactionsAreSharedBetweenTheWallsThatMeetThere)
 {
-  // The same channel on a mesh whose bottom wall is two boundaries, b1 (x < 0) and b2 (x > 0):
-  // each half carries half of what the whole wall does, 0.5 in all and Bi / 2 in lambda. The node
-  // at x = 0 belongs to both; when each took its whole reaction, they carried 0.517 each.
+  // The same channel on a mesh whose bottom wall is two boundaries, b1 (x < -0.2, 0.3 long) and
+  // b2 (0.7 long): the wall shear is uniform, so each carries its length's part of what the whole
+  // wall does: 0.3 and 0.7 in all, 0.3 Bi and 0.7 Bi in lambda. The node at x = -0.2 belongs to
+  // both; when each took its whole reaction, a symmetric split gave 0.517 on each half.
   const std::string mesh_file = ::testing::TempDir() + "/split_channel.msh";
   {
     const int     nx = 10, ny = 20;
@@ -154,7 +185,7 @@ TEST(DragForce, CornerReactionsAreSharedBetweenTheWallsThatMeetThere)
     };
     for (int i = 0; i < nx; ++i)
       {
-        element(1, i < nx / 2 ? 1 : 2, {node(i, 0), node(i + 1, 0)});
+        element(1, i < 3 ? 1 : 2, {node(i, 0), node(i + 1, 0)});
         element(1, 3, {node(i, ny), node(i + 1, ny)});
       }
     for (int j = 0; j < ny; ++j)
@@ -172,7 +203,7 @@ TEST(DragForce, CornerReactionsAreSharedBetweenTheWallsThatMeetThere)
   }
   const double Bi    = 0.5;
   double       total = 0.;
-  for (const char *wall : {"b1", "b2"})
+  for (const auto &[wall, length] : {std::pair<const char *, double>{"b1", 0.3}, {"b2", 0.7}})
     {
       const auto s = run_dp("bingham_poiseuille.prm",
                             {{"Geometry/Shape", "file"},
@@ -182,8 +213,8 @@ TEST(DragForce, CornerReactionsAreSharedBetweenTheWallsThatMeetThere)
                              {"Output/Write vtu", "false"}},
                             std::string("drag_split_") + wall);
       ASSERT_TRUE(s["solver"]["converged"].get<bool>());
-      EXPECT_NEAR(s["boundary_force"][0].get<double>(), 0.5, 2e-3) << wall;
-      EXPECT_NEAR(s["drag"].get<double>(), 0.5 * Bi, 2e-3) << wall;
+      EXPECT_NEAR(s["boundary_force"][0].get<double>(), length, 2e-3) << wall;
+      EXPECT_NEAR(s["drag"].get<double>(), length * Bi, 2e-3) << wall;
       total += s["boundary_force"][0].get<double>();
     }
   EXPECT_NEAR(total, 1., 1e-3);

@@ -754,9 +754,8 @@ namespace granflow::dp
           else
             s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
               << stats.residual << " after " << stats.outer_iterations << " iterations; raise "
-              << (interior_point ? "Solver/Max outer iterations or Max seconds). "
-                                 : "Solver/Max outer iterations, Max inner iterations or Max "
-                                   "seconds). ");
+              << (interior_point ? "Solver/Max outer iterations). "
+                                 : "Solver/Max outer iterations or Max inner iterations). ");
           s << "The iterate of least residual was written to " << out.target();
           if (stats.interrupted)
             throw Interrupted(s.str(), interrupt::signal_number());
@@ -1008,12 +1007,13 @@ namespace granflow::dp
       out.write_csv("profiles/velocity.csv", header, columns);
 
       // U_infinity is the inflow's mean speed on any mesh, positive into the domain.
-      double U_inf = 0.;
+      double U_inf = 0., inflow_u_x = 0.;
       if (!prm.output.inflow_boundary.empty())
         {
-          const auto [flux, length] = postprocess::boundary_normal_flux(
+          const auto inflow = postprocess::boundary_normal_flux(
               mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
-          U_inf           = -flux / length;
+          U_inf           = -inflow.flux / inflow.length;
+          inflow_u_x      = inflow.mean_u_x;
           S["U_infinity"] = U_inf;
         }
       if (!prm.output.drag_boundary.empty())
@@ -1075,12 +1075,12 @@ namespace granflow::dp
           // diameter, centred at the origin): Daviet 6.3.2 (Fig. 14) and 6.3.1.
           if (prm.geometry.shape != "cylinder channel" || prm.output.drag_boundary != "cylinder")
             return;
-          // The flow runs along +x, or along -x where the inflow's speed is negative (the
-          // 'inlet' is then the outlet): the wake is behind the cylinder along the flow. A jammed
-          // channel (|U_inf| below 1e-5 sqrt(g L), the solver's accuracy in u) has no direction
-          // and no dynamic pressure to scale C_D by.
+          // The flow runs along +x or -x, as u_x does through the inflow boundary (whichever
+          // end of the channel that is, and whichever way through it): the wake is behind the
+          // cylinder along the flow. A jammed channel (|U_inf| below 1e-5 sqrt(g L), the solver's
+          // accuracy in u) has no direction and no dynamic pressure to scale C_D by.
           const bool   jammed = !prm.output.inflow_boundary.empty() && std::abs(U_inf) < 1e-5;
-          const double along  = U_inf < 0. && !jammed ? -1. : 1.;
+          const double along  = inflow_u_x < 0. && !jammed ? -1. : 1.;
           // The wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
           // divergence; the pressure peak on the centreline upstream (the arch) is located.
           const double R = 0.5 * prm.geometry.cylinder_diameter;

@@ -237,8 +237,11 @@ namespace granflow::dp
         if (!(g[1] < 0. && g[0] > -rheology.mu * g[1]))
           throw InputError(f, "Output/Reference",
                            "'bagnold' needs a flowing layer: Gravity direction (sin a, -cos a) "
-                           "with tan a > Rheology/mu (here tan a = " +
-                               std::to_string(g[1] < 0. ? -g[0] / g[1] : 0.) + ")");
+                           "with tan a > Rheology/mu (" +
+                               (g[1] < 0.
+                                    ? "here tan a = " + std::to_string(-g[0] / g[1])
+                                    : std::string("here gravity does not point into the bed")) +
+                               ")");
       }
     parse_point(output.profile_start, f, "Output/Profile start");
     parse_point(output.profile_end, f, "Output/Profile end");

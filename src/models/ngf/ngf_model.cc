@@ -136,8 +136,8 @@ namespace granflow::ngf
       void
       compute_reference();
       void
-      /// The profiles, W, the wall pressure and their warnings (those on the band only for a run
-      /// that went to its end: `finished`).
+      /// The profiles, W, the wall pressure and their warnings (those on the band and the wall
+      /// pressure only for a run that ended steady: `finished`).
       postprocess(nlohmann::json &summary, const Vector<double> &velocity, bool finished);
       void
       write_vtu(const Vector<double> &velocity);
@@ -1033,7 +1033,9 @@ namespace granflow::ngf
                "wall needs h well below d, docs/ngf.md): refine Geometry/Element size";
           warn(w.str());
         }
-      postprocess(summary, v, failure.empty());
+      // The band's own warnings only for a run that reached a steady flow: before that, the
+      // profile is a loading one ("not steady" says so).
+      postprocess(summary, v, failure.empty() && steady["steady"].get<bool>());
       if (prm.output.write_vtu)
         write_vtu(v);
       std::vector<double> inc, it, ru, rg, cu, cg;
@@ -1068,7 +1070,7 @@ namespace granflow::ngf
             throw Interrupted(message, interrupt::signal_number());
           throw ConvergenceError(message);
         }
-      log.print("ngf: mu_wall = " + std::to_string(mu_wall) +
+      log.print("ngf: mu_wall = " + summary["mu_wall"].dump() +
                 ", W/d = " + summary["shear_band_width_over_d"].dump() + ", " +
                 std::to_string(increment) + " increments, " + std::to_string(total_iterations) +
                 " Newton iterations, " + std::to_string(log.elapsed()) + " s\n");
