@@ -4,13 +4,15 @@
 # (mu = 0.5, Re = 100, Bi = 0). Writes DIR/drag.csv and DIR/drag.png (log-log).
 # Solved by the interior-point method (Solver/Method) to TOL (default 1e-6): the Cadoux fixed point
 # stalls near 5e-5 at mu = 0.5, and its drag at 1e-4 can be off by 10 % or more. A run whose
-# U_inf is below 1e-3 has jammed (no mean flow): it is listed but not plotted.
+# U_inf is below 1e-3 has jammed (no mean flow; granflow then reports jammed: true and no C_D): it
+# is listed but not plotted. The CSV has each run's final residual; runs that stopped short of TOL
+# (converged False) are plotted with open markers.
 #   scripts/cylinder_drag_sweep.sh [BUILD_DIR] [OUT_DIR] [TOL]
 set -euo pipefail
 build=${1:-build} out=${2:-results/cylinder_drag_sweep} tol=${3:-1e-6}
 mkdir -p "$out"
 csv="$out/drag.csv"
-echo "D,p_ext,U_infinity,Froude,drag,drag_coefficient,converged" >"$csv"
+echo "D,p_ext,U_infinity,Froude,drag,drag_coefficient,converged,residual" >"$csv"
 for D in 0.25 0.125; do
   for p in 0.1 0.2 0.3 0.4 0.5 0.6 0.7 0.8 1.0 1.2; do
     run="$out/runs/D${D}_p$p"
@@ -23,8 +25,9 @@ for D in 0.25 0.125; do
     /usr/bin/python3 - "$run/summary.json" "$D" "$p" "$status" >>"$csv" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
+cd = s["drag_coefficient"]  # null for a jammed channel
 print(f"{sys.argv[2]},{sys.argv[3]},{s['U_infinity']},{s['Froude']},{s['drag']},"
-      f"{s['drag_coefficient']},{int(sys.argv[4]) == 0}")
+      f"{'' if cd is None else cd},{int(sys.argv[4]) == 0},{s['solver']['residual']}")
 PY
   done
 done

@@ -17,9 +17,11 @@
 # change of v / v_wall over the last tenth of the run), note = solver settings that differ from the
 # case.
 # A run that fails or whose mu_wall is NaN is repeated once with 'Solver/Increment growth=1.2'.
-#   scripts/ngf_annulus_gravity_sweep.sh [GRANFLOW_BINARY] [OUT_DIR]
+#   scripts/ngf_annulus_gravity_sweep.sh [BUILD_DIR] [OUT_DIR]
+# (BUILD_DIR as for the other scripts; the granflow binary itself is also accepted.)
 set -euo pipefail
-granflow=${1:-build/apps/granflow} out=${2:-results/henann2016}
+build=${1:-build} out=${2:-results/henann2016}
+if [ -d "$build" ]; then granflow=$build/apps/granflow; else granflow=$build; fi
 case_file=cases/henann2016/annular_shear_gravity.prm
 field_rate=1e-3
 mkdir -p "$out"
