@@ -223,6 +223,9 @@ interrupted dp-ctrl-c INT 130 int_dp "$GRANFLOW" run "$SOURCE_DIR/cases/daviet20
   --set "Solver/Method=fixed point" --set "Solver/Tolerance=1e-12" --set "Solver/Max seconds=120"
 interrupted ngf-sigterm TERM 143 int_ngf "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" \
   --set "Output/Write vtu=false"
+# A run stopped early is not steady, and says so beside its W/d.
+if grep -q "not steady over the last tenth" int_ngf/summary.json; then pass "ngf interrupted run warns not steady";
+else fail "ngf interrupted run warns not steady"; fi
 
 # ngf (Henann & Kamrin 2016): bad material values and fluidity boundaries (issue #3 h).
 ngf_case="$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm"

@@ -1010,7 +1010,7 @@ namespace granflow::ngf
                               {"steady", dmu <= steady_mu_tolerance && dv <= steady_velocity_tolerance}};
         }
       summary["steady_state"] = steady;
-      if (failure.empty() && !steady["steady"].get<bool>())
+      if ((failure.empty() || interrupted) && !steady["steady"].get<bool>())
         warn("not steady over the last tenth of the run (" + steady.dump() +
              "): run further (Loading/Wall displacement or Wall rotation) before using mu_wall, "
              "W/d or the profiles as steady results");
