@@ -491,12 +491,12 @@ namespace granflow::dp
       const auto  add = [&](const std::string &list, const char *entry, const ComponentMask &mask) {
         for (const std::string &name : split_list(list))
           {
+            const types::boundary_id                  id = mesh.id(name, prm.case_file, entry);
             std::map<types::global_dof_index, double> values;
             VectorTools::interpolate_boundary_values(
-                 mapping, dof_u, mesh.id(name, prm.case_file, entry),
-                 Functions::ZeroFunction<dim>(dim), values, mask);
+                mapping, dof_u, id, Functions::ZeroFunction<dim>(dim), values, mask);
             dirichlet.insert(values.begin(), values.end());
-            velocity_boundaries.emplace_back(mesh.id(name, prm.case_file, entry), mask);
+            velocity_boundaries.emplace_back(id, mask);
           }
       };
       add(bc.no_slip, "Boundary conditions/No-slip", ComponentMask());

@@ -198,17 +198,23 @@ namespace granflow::dp
     // An analytic reference holds only for the problem it solves; anywhere else its
     // max_rel_error would be a silent wrong answer (or NaN).
     const dealii::Tensor<1, 2> g = e_g();
+    // The reference's domain: the built-in `shape` with its `size_entry` at the paper's value (a
+    // user mesh of it, Shape = file, is the user's to get right).
+    const auto require_domain = [&](const std::string &solves, const std::string &shape,
+                                    const std::string &size_entry, const double size,
+                                    const double paper_size) {
+      if (geometry.shape != shape && geometry.shape != "file")
+        throw InputError(f, "Output/Reference",
+                         solves + ": needs Geometry/Shape = " + shape + " (or a mesh file of it)");
+      if (geometry.shape == shape && size != paper_size)
+        throw InputError(f, "Output/Reference",
+                         solves + ": needs Geometry/" + size_entry + " = " +
+                             std::to_string(static_cast<int>(paper_size)));
+    };
     if (output.reference == "bingham poiseuille")
       {
-        // (A user mesh of that channel, Shape = file, is the user's to get right.)
-        if (geometry.shape != "channel" && geometry.shape != "file")
-          throw InputError(f, "Output/Reference",
-                           "'bingham poiseuille' solves the channel y in [-1, 1] (6.1.1): needs "
-                           "Geometry/Shape = channel (or a mesh file of it)");
-        if (geometry.shape == "channel" && geometry.channel_width != 2.)
-          throw InputError(f, "Output/Reference",
-                           "'bingham poiseuille' solves the channel y in [-1, 1] (6.1.1): needs "
-                           "Geometry/Channel width = 2");
+        require_domain("'bingham poiseuille' solves the channel y in [-1, 1] (6.1.1)", "channel",
+                       "Channel width", geometry.channel_width, 2.);
         if (rheology.mu != 0. || rheology.viscosity != "constant")
           throw InputError(f, "Output/Reference",
                            "'bingham poiseuille' needs Rheology/mu = 0 and Rheology/Viscosity = "
@@ -220,14 +226,8 @@ namespace granflow::dp
       }
     if (output.reference == "bagnold")
       {
-        if (geometry.shape != "square patch" && geometry.shape != "file")
-          throw InputError(f, "Output/Reference",
-                           "'bagnold' solves the layer y in [0, 1] (6.1.3): needs Geometry/Shape = "
-                           "square patch (or a mesh file of it)");
-        if (geometry.shape == "square patch" && geometry.patch_size != 1.)
-          throw InputError(f, "Output/Reference",
-                           "'bagnold' solves the layer y in [0, 1] (6.1.3): needs Geometry/Patch "
-                           "size = 1");
+        require_domain("'bagnold' solves the layer y in [0, 1] (6.1.3)", "square patch",
+                       "Patch size", geometry.patch_size, 1.);
         if (rheology.Bi != 0. || rheology.viscosity != "bagnold")
           throw InputError(
               f, "Output/Reference",
