@@ -26,24 +26,26 @@ namespace granflow
   }
 
   void
-  Logger::progress(const std::string &text)
+  Logger::stamp(const std::string &text)
   {
-    const auto now = std::chrono::steady_clock::now();
-    if (std::chrono::duration<double>(now - last_progress).count() < progress_interval)
-      return;
-    last_progress = now;
+    last_progress = std::chrono::steady_clock::now();
     if (echo)
       std::cout << "  [" << static_cast<int>(elapsed()) << " s] " << text << std::endl;
   }
 
   void
+  Logger::progress(const std::string &text)
+  {
+    const auto since = std::chrono::steady_clock::now() - last_progress;
+    if (std::chrono::duration<double>(since).count() >= progress_interval)
+      stamp(text);
+  }
+
+  void
   Logger::phase(const std::string &text)
   {
-    if (elapsed() < 1.)
-      return;
-    last_progress = std::chrono::steady_clock::now();
-    if (echo)
-      std::cout << "  [" << static_cast<int>(elapsed()) << " s] " << text << std::endl;
+    if (elapsed() >= 1.)
+      stamp(text);
   }
 
   double

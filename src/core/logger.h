@@ -43,6 +43,10 @@ namespace granflow
     elapsed() const;
 
   private:
+    /// "  [12 s] text" on the console (if echoed); restarts the progress interval.
+    void
+    stamp(const std::string &text);
+
     std::ofstream                         file;
     bool                                  echo;
     std::chrono::steady_clock::time_point start, last_progress;

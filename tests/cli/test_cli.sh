@@ -290,6 +290,15 @@ check ngf-outward-flux-at-rest 3 "'wall: -100' (an outward flux of fluidity) has
   --set "Fluidity boundary conditions/Neumann=wall: -100"
 if grep -q '"mu_wall": null' ngf_flux/summary.json; then pass "ngf mu_wall null before any increment";
 else fail "ngf mu_wall null before any increment"; fi
+# A fluidity source at the wall lets the material flow below mu_s: no "below mu_s" warning there,
+# while a g = 0 wall on a coarse mesh keeps it.
+check ngf-fluidity-source 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_source --quiet \
+  --set "Output/Reference=none" --set "Fluidity boundary conditions/Dirichlet=wall: 5"
+check ngf-g-zero-wall-below-mu-s 0 "is below mu_s" "$GRANFLOW" run "$ngf_case" --output ngf_g0 \
+  --set "Output/Reference=none" --set "Fluidity boundary conditions/Dirichlet=wall: 0" \
+  --set "Geometry/Element size=1"
+if grep -q '"warnings": \[\]' ngf_source/summary.json; then pass "ngf fluidity source: no warning";
+else fail "ngf fluidity source: no warning"; grep -A3 warnings ngf_source/summary.json; fi
 # A run too short to yield ends normally but says it is not steady (summary.json and a warning).
 check ngf-not-steady 0 "warning: not steady over the last tenth of the run" "$GRANFLOW" run "$ngf_case" \
   --output ngf_short --set "Loading/Wall displacement=1e-4"

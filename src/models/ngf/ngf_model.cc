@@ -1019,11 +1019,9 @@ namespace granflow::ngf
       // at the wall (g = 0 there on coarse meshes, docs/ngf.md) or the body has not yielded.
       // A fluidity boundary condition that feeds fluidity in (g_wall > 0, zeta > 0) lets the
       // material flow below mu_s, so the test applies only without one.
-      bool fluidity_source = false;
-      for (const auto &[name, g_wall] : prm.fluidity_dirichlet())
-        fluidity_source = fluidity_source || g_wall > 0.;
-      for (const auto &[name, zeta] : prm.fluidity_neumann())
-        fluidity_source = fluidity_source || zeta > 0.;
+      const auto positive        = [](const auto &condition) { return condition.second > 0.; };
+      const bool fluidity_source = std::any_of(g_dirichlet.begin(), g_dirichlet.end(), positive) ||
+                                   std::any_of(g_neumann.begin(), g_neumann.end(), positive);
       if (failure.empty() && !fluidity_source && mu_wall < prm.material.nonlocal.mu_s)
         {
           std::ostringstream w;
