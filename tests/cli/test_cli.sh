@@ -163,7 +163,17 @@ bad rigid-motion-of-a-loose-piece "no velocity condition applies on the part of 
   --set "Output/Profile end=1, 0.5"
 bad external-pressure-twice "names boundary 'inlet' a second time" --set "Boundary conditions/External pressure=inlet: 1, inlet: 3"
 bad external-pressure-on-no-slip "a No-slip boundary" --set "Boundary conditions/External pressure=top: 1"
-bad drag-boundary-not-no-slip "is not in Boundary conditions/No-slip" --set "Output/Drag boundary=inlet"
+bad drag-boundary-without-velocity-condition "'outlet' has no velocity condition" \
+  --set "Boundary conditions/Zero y-velocity=inlet" --set "Output/Drag boundary=outlet"
+bad velocity-condition-twice "names 'top', which is also in Boundary conditions/No-slip" \
+  --set "Boundary conditions/Zero normal velocity=top"
+bad external-pressure-on-free-slip "a Zero normal velocity boundary" --set "Boundary conditions/No-slip=bottom" \
+  --set "Boundary conditions/Zero normal velocity=top" --set "Boundary conditions/External pressure=top: 1"
+bad zero-normal-velocity-missing-boundary "entry 'Boundary conditions/Zero normal velocity'" \
+  --set "Boundary conditions/Zero normal velocity=lid"
+bad zero-tangential-velocity-leaves-rigid-motion "the velocity can still translate along (1, 0)" \
+  --set "Boundary conditions/No-slip=" --set "Boundary conditions/Zero y-velocity=" \
+  --set "Boundary conditions/Zero tangential velocity=inlet, outlet" --set "Output/Reference=none"
 bad viscosity-tolerance-zero "Solver/Viscosity tolerance" --set "Solver/Viscosity tolerance=0"
 bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip'" --set "Boundary conditions/No-slip=bottom, lid"
 bad blames-the-set "--set Geometry/Mesh size=0" --set "Geometry/Mesh size=0"

@@ -6,6 +6,8 @@
 // an analytic value is the Bingham channel below.
 #include "core/output.h"
 #include "models/dp/dp_model.h"
+#include "support/dp_run.h"
+#include "support/structured_mesh.h"
 
 #include <gtest/gtest.h>
 
@@ -98,22 +100,7 @@ TEST(CylinderFlow, InteriorPointAndFixedPointGiveTheSameFlow)
               1e-3 * summary[0]["U_infinity"].get<double>());
 }
 
-namespace
-{
-  nlohmann::json
-  run_dp(const std::string &case_name, const std::vector<granflow::Override> &overrides,
-         const std::string &name)
-  {
-    const std::string case_file =
-        std::string(GRANFLOW_SOURCE_DIR) + "/cases/daviet2016/" + case_name;
-    const auto        parameters = granflow::dp::load_parameters(case_file, overrides);
-    const std::string dir        = ::testing::TempDir() + "/granflow_" + name;
-    std::filesystem::remove_all(dir);
-    granflow::OutputDirectory out(dir);
-    granflow::Logger          log(out.file("log.txt"), false);
-    return granflow::dp::run(parameters, out, log).summary;
-  }
-} // namespace
+using granflow::test::run_dp;
 
 TEST(DragForce, BinghamChannelWallCarriesTheBodyForceAndTheYieldStress)
 {
@@ -164,43 +151,8 @@ TEST(DragForce, CornerReactionsAreSharedBetweenTheWallsThatMeetThere)
   // wall does: 0.3 and 0.7 in all, 0.3 Bi and 0.7 Bi in lambda. The node at x = -0.2 belongs to
   // both; when each took its whole reaction, a symmetric split gave 0.517 on each half.
   const std::string mesh_file = ::testing::TempDir() + "/split_channel.msh";
-  {
-    const int     nx = 10, ny = 20;
-    std::ofstream msh(mesh_file);
-    msh << "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n$PhysicalNames\n6\n1 1 \"b1\"\n1 2 \"b2\"\n"
-           "1 3 \"top\"\n1 4 \"inlet\"\n1 5 \"outlet\"\n2 6 \"domain\"\n$EndPhysicalNames\n";
-    const auto node = [&](int i, int j) { return 1 + i + (nx + 1) * j; };
-    msh << "$Nodes\n" << (nx + 1) * (ny + 1) << "\n";
-    for (int j = 0; j <= ny; ++j)
-      for (int i = 0; i <= nx; ++i)
-        msh << node(i, j) << " " << -0.5 + double(i) / nx << " " << -1. + 2. * j / ny << " 0\n";
-    msh << "$EndNodes\n$Elements\n" << 2 * nx + 2 * ny + 2 * nx * ny << "\n";
-    int e = 0;
-    // element: type (1 line, 2 triangle), 2 tags (physical, elementary), nodes
-    const auto element = [&](int type, int physical, std::initializer_list<int> nodes) {
-      msh << ++e << " " << type << " 2 " << physical << " " << physical;
-      for (const int n : nodes)
-        msh << " " << n;
-      msh << "\n";
-    };
-    for (int i = 0; i < nx; ++i)
-      {
-        element(1, i < 3 ? 1 : 2, {node(i, 0), node(i + 1, 0)});
-        element(1, 3, {node(i, ny), node(i + 1, ny)});
-      }
-    for (int j = 0; j < ny; ++j)
-      {
-        element(1, 4, {node(0, j), node(0, j + 1)});
-        element(1, 5, {node(nx, j), node(nx, j + 1)});
-      }
-    for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i)
-        {
-          element(2, 6, {node(i, j), node(i + 1, j), node(i + 1, j + 1)});
-          element(2, 6, {node(i, j), node(i + 1, j + 1), node(i, j + 1)});
-        }
-    msh << "$EndElements\n";
-  }
+  granflow::test::write_rectangle_msh(mesh_file, 10, 20, -0.5, 0.5, -1., 1., 0.,
+                                      [](int i) { return i < 3 ? "b1" : "b2"; });
   const double Bi    = 0.5;
   double       total = 0.;
   for (const auto &[wall, length] : {std::pair<const char *, double>{"b1", 0.3}, {"b2", 0.7}})

@@ -32,6 +32,7 @@
 #include <map>
 #include <set>
 #include <sstream>
+#include <tuple>
 
 namespace granflow::dp
 {
@@ -84,6 +85,8 @@ namespace granflow::dp
       void
       setup();
       void
+      constrain_directions();
+      void
       require_no_free_rigid_motion() const;
       void
       assemble_velocity_operator(const std::vector<double> &eta);
@@ -123,9 +126,33 @@ namespace granflow::dp
       QGaussSimplex<dim> quadrature{3};
 
       std::map<types::global_dof_index, double> dirichlet;  // dof -> u_D
-      /// The boundaries whose velocity is prescribed, with the components they fix.
-      std::vector<std::pair<types::boundary_id, ComponentMask>> velocity_boundaries;
-      std::vector<int>                          free_index; // dof -> free dof or -1
+      /// A boundary with a velocity condition: the components it fixes (No-slip, Zero x- and
+      /// y-velocity) or the direction of its faces along which the velocity is zero (Zero normal
+      /// velocity: the normal; Zero tangential velocity: the tangent).
+      struct VelocityBoundary
+      {
+        types::boundary_id id;
+        ComponentMask      mask;
+        enum class Direction
+        {
+          none,
+          normal,
+          tangent
+        } direction = Direction::none;
+      };
+      std::vector<VelocityBoundary> velocity_boundaries;
+      /// The velocity dofs in terms of the unknowns w of the cone problem: u_i = c_i
+      /// w_free_index[i] where free_index[i] >= 0, u_i = u_D otherwise. c_i = 1, except at a node
+      /// with one constrained direction d (Zero normal or tangential velocity), whose two dofs
+      /// share one unknown: u = w t with t perpendicular to d, c = (t_x, t_y).
+      std::vector<int>    free_index;       // dof -> unknown or -1
+      std::vector<double> free_coefficient; // c_i
+      /// Dofs whose momentum equation is replaced by a velocity condition (prescribed dofs, and
+      /// both dofs of a node with a constrained direction): their rows give the reactions.
+      std::vector<bool> reaction_dof;
+      /// Nodes with a constrained direction: x-dof -> (y-dof, unit d with u . d = 0).
+      std::map<types::global_dof_index, std::pair<types::global_dof_index, Tensor<1, dim>>>
+                                                directed_nodes;
       std::size_t                               n_free = 0;
       std::size_t                               n_points = 0;
       std::vector<double>                       point_weight; // int alpha_i, or JxW of the point
@@ -145,6 +172,110 @@ namespace granflow::dp
       nlohmann::json           timings = nlohmann::json::object();
       nlohmann::json           solver_json;
     };
+
+    /// Zero normal and Zero tangential velocity: at each node of these faces, u . d = 0 along
+    /// one direction d: the faces' normal (free slip) or tangent (flow normal to the boundary).
+    /// Where faces meet at an angle, d is the principal direction of sum_f w_f d_f d_f^T, w_f the
+    /// integral of the node's shape function on face f: for two faces, the mean of their
+    /// directions weighted by w_f (Engelman's consistent normal for a slip wall), whatever
+    /// the signs of d_f. That lets the flow follow a polygonal wall, or the chords of a curved
+    /// one, round its kinks. Where two faces' directions differ by more than 45 degrees, as at the
+    /// corner of a box, no direction is free and the node is fixed (u = 0); so is a node where
+    /// another velocity condition already fixes a component other than along d.
+    void
+    Problem::constrain_directions()
+    {
+      const auto &bc  = prm.boundaries;
+      using Direction = VelocityBoundary::Direction;
+      std::map<types::boundary_id, Direction> direction_of;
+      for (const auto &[list, direction, entry] :
+           {std::make_tuple(&bc.zero_normal_velocity, Direction::normal,
+                            "Boundary conditions/Zero normal velocity"),
+            std::make_tuple(&bc.zero_tangential_velocity, Direction::tangent,
+                            "Boundary conditions/Zero tangential velocity")})
+        for (const std::string &name : split_list(*list))
+          {
+            const types::boundary_id id = mesh.id(name, prm.case_file, entry);
+            direction_of[id]            = direction;
+            velocity_boundaries.push_back({id, ComponentMask(dim, false), direction});
+          }
+      if (direction_of.empty())
+        return;
+
+      struct Node
+      {
+        types::global_dof_index     y;
+        SymmetricTensor<2, dim>     M; // sum_f w_f d_f d_f^T
+        std::vector<Tensor<1, dim>> d; // d_f of each face
+      };
+      std::map<types::global_dof_index, Node> nodes; // by x-dof
+      const QGauss<dim - 1>                   face_quadrature(3);
+      FEFaceValues<dim>                       fvf(mapping, fe_u, face_quadrature,
+                                                  update_values | update_normal_vectors | update_JxW_values);
+      std::vector<types::global_dof_index>    dofs(fe_u.n_dofs_per_cell()),
+          face_dofs(fe_u.n_dofs_per_face());
+      // (FiniteElement::has_support_on_face() is true for every dof of FE_SimplexP in 9.4, and
+      // the shape functions of other nodes are only about 1e-17 on the face, not 0.)
+      const auto on_face = [&](const types::global_dof_index i) {
+        return std::find(face_dofs.begin(), face_dofs.end(), i) != face_dofs.end();
+      };
+      for (const auto &cell : dof_u.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          {
+            if (!cell->face(f)->at_boundary())
+              continue;
+            const auto direction = direction_of.find(cell->face(f)->boundary_id());
+            if (direction == direction_of.end())
+              continue;
+            fvf.reinit(cell, f);
+            cell->get_dof_indices(dofs);
+            cell->face(f)->get_dof_indices(face_dofs);
+            const Tensor<1, dim> n = fvf.normal_vector(0); // straight faces (linear mapping)
+            const Tensor<1, dim> d =
+                direction->second == Direction::normal ? n : Tensor<1, dim>({-n[1], n[0]});
+            for (unsigned int k = 0; k < fe_u.n_dofs_per_cell(); ++k)
+              {
+                const auto [component, index] = fe_u.system_to_component_index(k);
+                if (component != 0 || !on_face(dofs[k]))
+                  continue;
+                double w = 0.;
+                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                  w += fvf.shape_value(k, q) * fvf.JxW(q);
+                Node &node = nodes[dofs[k]];
+                node.y     = dofs[fe_u.component_to_system_index(1, index)];
+                node.M += w * symmetrize(outer_product(d, d));
+                node.d.push_back(d);
+              }
+          }
+
+      const double cos_corner = std::cos(numbers::PI / 4.);
+      for (const auto &[x, node] : nodes)
+        {
+          const bool fixed_x = dirichlet.count(x), fixed_y = dirichlet.count(node.y);
+          if (fixed_x && fixed_y)
+            continue; // No-slip
+          bool corner = false;
+          for (const auto &a : node.d)
+            for (const auto &b : node.d)
+              corner = corner || std::abs(a * b) < cos_corner;
+          Tensor<1, dim> d = eigenvectors(node.M).front().second; // the largest
+          for (unsigned int c = 0; c < dim; ++c) // an axis stays an axis, to the last bit
+            if (std::abs(d[c]) < 1e-14)
+              d[c] = 0.;
+          d /= d.norm();
+          // A component already fixed (Zero x- or y-velocity) leaves nothing free unless d is
+          // that component's axis, when u . d = 0 holds already.
+          if (fixed_x || fixed_y)
+            corner = corner || std::abs(d[fixed_x ? 1 : 0]) > 1e-12;
+          if (corner)
+            {
+              dirichlet.emplace(x, 0.);
+              dirichlet.emplace(node.y, 0.);
+            }
+          else if (!fixed_x && !fixed_y)
+            directed_nodes[x] = {node.y, d};
+        }
+    }
 
     /// A (25a) vanishes on rigid motions (D(u) = 0), so the velocity conditions must leave none
     /// free on any piece of the mesh; else A is singular, and a Cholesky factorisation in floating
@@ -192,14 +323,21 @@ namespace granflow::dp
             {
               cell->get_dof_indices(dofs);
               for (unsigned int i = 0; i < dofs.size(); ++i)
-                if (dirichlet.count(dofs[i]) && seen.insert(dofs[i]).second)
-                  {
-                    const Tensor<1, dim> x   = (support.at(dofs[i]) - centre) / size;
-                    const Tensor<1, 3>   row = fe_u.system_to_component_index(i).first == 0
-                                                   ? Tensor<1, 3>({1., 0., -x[1]})
-                                                   : Tensor<1, 3>({0., 1., x[0]});
-                    gram += symmetrize(outer_product(row, row));
-                  }
+                {
+                  const auto directed = directed_nodes.find(dofs[i]);
+                  if ((!dirichlet.count(dofs[i]) && directed == directed_nodes.end()) ||
+                      !seen.insert(dofs[i]).second)
+                    continue;
+                  // The velocity along e (a component, or the constrained direction d) is zero.
+                  Tensor<1, dim> e;
+                  if (directed != directed_nodes.end())
+                    e = directed->second.second;
+                  else
+                    e[fe_u.system_to_component_index(i).first] = 1.;
+                  const Tensor<1, dim> x = (support.at(dofs[i]) - centre) / size;
+                  const Tensor<1, 3>   row({e[0], e[1], e[1] * x[0] - e[0] * x[1]});
+                  gram += symmetrize(outer_product(row, row));
+                }
             }
           const auto modes = eigenvectors(gram); // descending: modes.back() is the least fixed
           if (modes.back().first > 1e-10 * std::max(trace(gram), 1.))
@@ -221,7 +359,7 @@ namespace granflow::dp
                   << cells.size() << " of " << mesh.triangulation.n_active_cells()
                   << " triangles, joined to the rest by no edge)";
           throw InputError(prm.case_file, "Boundary conditions/No-slip",
-                           "with Zero x-velocity and Zero y-velocity: " + what.str() + where.str() +
+                           "with the other velocity conditions: " + what.str() + where.str() +
                                " (A is singular): expected velocity conditions that fix both "
                                "translations and the rotation of every part of the mesh");
         }
@@ -241,7 +379,7 @@ namespace granflow::dp
       const unsigned int n = fe_u.n_dofs_per_cell(), nq = quadrature.size();
       std::vector<types::global_dof_index> dofs(n);
       std::vector<std::map<int, double>>   rows(n_free);
-      std::vector<double>                  load(dof_u.n_dofs(), 0.);
+      std::vector<double>                  load(dof_u.n_dofs(), 0.), lifting(n_free, 0.);
       std::vector<SymmetricTensor<2, dim>> eps(n);
       A_constrained.clear();
       std::vector<double>                  div(n);
@@ -261,21 +399,28 @@ namespace granflow::dp
                 }
               for (unsigned int i = 0; i < n; ++i)
                 {
-                  if (free_index[dofs[i]] < 0)
+                  if (reaction_dof[dofs[i]])
                     {
                       auto &row = A_constrained[dofs[i]];
                       for (unsigned int j = 0; j < n; ++j)
                         row[dofs[j]] += w * (eps[i] * eps[j] + b / dim * div[i] * div[j]);
-                      continue;
                     }
-                  auto &row = rows[free_index[dofs[i]]];
+                  // A_w = C^T A C and l_w = C^T (l - A u_D), C the map u = C w + u_D.
+                  const int    I  = free_index[dofs[i]];
+                  const double ci = I >= 0 ? free_coefficient[dofs[i]] : 0.;
+                  if (ci == 0.)
+                    continue;
+                  auto &row = rows[I];
                   for (unsigned int j = 0; j < n; ++j)
                     {
                       const double a = w * (eps[i] * eps[j] + b / dim * div[i] * div[j]);
-                      if (free_index[dofs[j]] >= 0)
-                        row[free_index[dofs[j]]] += a;
+                      if (const int J = free_index[dofs[j]]; J >= 0)
+                        {
+                          if (free_coefficient[dofs[j]] != 0.)
+                            row[J] += ci * free_coefficient[dofs[j]] * a;
+                        }
                       else
-                        load[dofs[i]] -= a * dirichlet.at(dofs[j]);
+                        lifting[I] -= ci * a * dirichlet.at(dofs[j]);
                     }
                 }
             }
@@ -336,11 +481,11 @@ namespace granflow::dp
             }
           data.A.row_start.push_back(static_cast<int>(data.A.column.size()));
         }
-      data.l.assign(n_free, 0.);
+      data.l = std::move(lifting);
       for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
         if (free_index[i] >= 0)
-          data.l[free_index[i]] = load[i];
-      load_all = std::move(load); // at a constrained dof: body force and tractions, no lifting
+          data.l[free_index[i]] += free_coefficient[i] * load[i];
+      load_all              = std::move(load); // body force and tractions, no lifting
       timings["assemble_A"] = timings.value("assemble_A", 0.) +
         std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
@@ -376,13 +521,12 @@ namespace granflow::dp
                 const double h = 2. * weight * g[c];
                 if (h == 0.)
                   continue;
-                if (free_index[dofs[i]] >= 0)
-                  rows[point * s_d + c][free_index[dofs[i]]] += h;
-                else
-                  {
-                    data.k[point * s_d + c] += h * dirichlet.at(dofs[i]);
-                    H_constrained[dofs[i]][point * s_d + c] += h;
-                  }
+                if (free_index[dofs[i]] < 0)
+                  data.k[point * s_d + c] += h * dirichlet.at(dofs[i]);
+                else if (free_coefficient[dofs[i]] != 0.)
+                  rows[point * s_d + c][free_index[dofs[i]]] += free_coefficient[dofs[i]] * h;
+                if (reaction_dof[dofs[i]])
+                  H_constrained[dofs[i]][point * s_d + c] += h;
               }
           }
       };
@@ -487,8 +631,24 @@ namespace granflow::dp
       dof_s.reinit(mesh.triangulation);
       dof_s.distribute_dofs(fe_s);
 
-      const auto &bc  = prm.boundaries;
-      const auto  add = [&](const std::string &list, const char *entry, const ComponentMask &mask) {
+      const auto &bc = prm.boundaries;
+      // A name in two velocity conditions is a contradiction or a typo.
+      std::map<types::boundary_id, const char *>                      condition_of;
+      const std::vector<std::pair<const std::string *, const char *>> conditions = {
+          {&bc.no_slip, "No-slip"},
+          {&bc.zero_x_velocity, "Zero x-velocity"},
+          {&bc.zero_y_velocity, "Zero y-velocity"},
+          {&bc.zero_normal_velocity, "Zero normal velocity"},
+          {&bc.zero_tangential_velocity, "Zero tangential velocity"}};
+      for (const auto &[list, entry] : conditions)
+        for (const std::string &name : split_list(*list))
+          if (const auto [it, fresh] = condition_of.emplace(
+                  mesh.id(name, prm.case_file, std::string("Boundary conditions/") + entry), entry);
+              !fresh)
+            throw InputError(prm.case_file, std::string("Boundary conditions/") + entry,
+                             "names '" + name + "', which is also in Boundary conditions/" +
+                                 it->second + ": expected one velocity condition per boundary");
+      const auto add = [&](const std::string &list, const char *entry, const ComponentMask &mask) {
         for (const std::string &name : split_list(list))
           {
             const types::boundary_id                  id = mesh.id(name, prm.case_file, entry);
@@ -496,7 +656,7 @@ namespace granflow::dp
             VectorTools::interpolate_boundary_values(
                 mapping, dof_u, id, Functions::ZeroFunction<dim>(dim), values, mask);
             dirichlet.insert(values.begin(), values.end());
-            velocity_boundaries.emplace_back(id, mask);
+            velocity_boundaries.push_back({id, mask});
           }
       };
       add(bc.no_slip, "Boundary conditions/No-slip", ComponentMask());
@@ -504,35 +664,63 @@ namespace granflow::dp
           ComponentMask(std::vector<bool>{true, false}));
       add(bc.zero_y_velocity, "Boundary conditions/Zero y-velocity",
           ComponentMask(std::vector<bool>{false, true}));
+      constrain_directions();
       require_no_free_rigid_motion(); // also where there is no velocity condition at all
+
       // Every named boundary of the load must exist too (checked before anything is solved).
-      const auto no_slip = split_list(bc.no_slip);
       for (const auto &[name, p] :
            parse_named_values(bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
         {
-          mesh.id(name, prm.case_file, "Boundary conditions/External pressure");
-          if (std::find(no_slip.begin(), no_slip.end(), name) != no_slip.end())
+          const auto condition = condition_of.find(
+              mesh.id(name, prm.case_file, "Boundary conditions/External pressure"));
+          // A pressure does work only through the normal velocity (free on a Zero x-velocity
+          // boundary y = const, for example).
+          if (condition != condition_of.end() &&
+              (std::string(condition->second) == "No-slip" ||
+               std::string(condition->second) == "Zero normal velocity"))
             throw InputError(prm.case_file, "Boundary conditions/External pressure",
-                             "on '" + name +
-                                 "', a No-slip boundary, where the velocity is prescribed and a "
-                                 "traction does nothing: expected Neumann boundaries only");
+                             "on '" + name + "', a " + condition->second +
+                                 " boundary, where the normal velocity is prescribed and a "
+                                 "pressure does nothing: expected a boundary where the normal "
+                                 "velocity is free");
         }
       if (!prm.output.drag_boundary.empty())
         {
-          mesh.id(prm.output.drag_boundary, prm.case_file, "Output/Drag boundary");
-          // The force is the reaction where the velocity is prescribed (boundary_force()).
-          if (std::find(no_slip.begin(), no_slip.end(), prm.output.drag_boundary) == no_slip.end())
+          // The force is the reaction where the velocity is constrained (boundary_force()).
+          if (!condition_of.count(
+                  mesh.id(prm.output.drag_boundary, prm.case_file, "Output/Drag boundary")))
             throw InputError(prm.case_file, "Output/Drag boundary",
                              "'" + prm.output.drag_boundary +
-                                 "' is not in Boundary conditions/No-slip: expected a boundary "
-                                 "whose velocity is prescribed (the force is its reaction)");
+                                 "' has no velocity condition: expected a boundary in one of "
+                                 "the velocity conditions of Boundary conditions (the force is "
+                                 "its reaction)");
         }
       if (!prm.output.inflow_boundary.empty())
         mesh.id(prm.output.inflow_boundary, prm.case_file, "Output/Inflow boundary");
 
       free_index.assign(dof_u.n_dofs(), -1);
+      free_coefficient.assign(dof_u.n_dofs(), 1.);
+      reaction_dof.assign(dof_u.n_dofs(), false);
+      std::map<types::global_dof_index, types::global_dof_index> partner;
+      for (const auto &[x, node] : directed_nodes)
+        {
+          // u = w t with t = d rotated by +90 degrees, its larger component positive (so that
+          // d = +-e_x gives t = e_y, the same unknown as Zero x-velocity).
+          Tensor<1, dim> t({-node.second[1], node.second[0]});
+          if (std::abs(t[0]) >= std::abs(t[1]) ? t[0] < 0. : t[1] < 0.)
+            t *= -1.;
+          free_coefficient[x]          = t[0];
+          free_coefficient[node.first] = t[1];
+          partner[x]                   = node.first;
+          partner[node.first]          = x;
+          reaction_dof[x] = reaction_dof[node.first] = true;
+        }
       for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
-        if (dirichlet.count(i) == 0)
+        if (dirichlet.count(i))
+          reaction_dof[i] = true;
+        else if (const auto p = partner.find(i); p != partner.end() && free_index[p->second] >= 0)
+          free_index[i] = free_index[p->second];
+        else
           free_index[i] = static_cast<int>(n_free++);
       n_points = p1d ? mesh.triangulation.n_active_cells() * 3 : dof_s.n_dofs();
       u.reinit(dof_u.n_dofs());
@@ -607,14 +795,15 @@ namespace granflow::dp
       catch (const solvers::NotPositiveDefinite &)
         {
           throw InputError(prm.case_file, "Boundary conditions/No-slip",
-                           "with Zero x-velocity and Zero y-velocity leaves a rigid motion of the "
+                           "with the other velocity conditions leaves a rigid motion of the "
                            "velocity free (A is singular): expected velocity conditions that fix "
                            "both translations and the rotation");
         }
       log.flush_table();
 
       for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
-        u[i] = free_index[i] >= 0 ? solution.u[free_index[i]] : dirichlet.at(i);
+        u[i] =
+            free_index[i] >= 0 ? free_coefficient[i] * solution.u[free_index[i]] : dirichlet.at(i);
       return stats;
     }
 
@@ -1140,79 +1329,105 @@ namespace granflow::dp
         }
     }
 
-    /// The force of the material on a boundary where the velocity is prescribed, as the reaction of
-    /// the discrete momentum equation (25a) at its dofs: with v the sum of the shape functions of
+    /// The force of the material on a boundary with a velocity condition, as the reaction of the
+    /// discrete momentum equation (25a) at its nodes: with v the sum of the shape functions of
     /// one component at the boundary's dofs (1 on the boundary, 0 at every other node),
     /// F . e = -(a(u, v) - <lambda, gamma(v)> - l(v)). This is the variationally consistent flux,
     /// which converges with the velocity; the trace lambda n of the P1d stress, whose vertex values
     /// oscillate, moved by 50 % under refinement of the cylinder channel.
     ///
-    /// A dof where this boundary meets another one whose velocity is prescribed (a corner) carries
-    /// the reaction of both: each boundary takes the share of it that its faces have in the
-    /// integral of the dof's shape function over all such faces, so that the forces on the
-    /// boundaries add up to the total (the whole corner reaction went to each of them, which
-    /// counted it twice: 0.517 on each half of a split Bingham wall that carries 0.5).
+    /// A node's reaction r acts along the directions its conditions fix. Where several boundaries
+    /// meet (a corner), each takes its share: with P_f the projection onto the directions that
+    /// face f's condition fixes (I for No-slip, e e^T for a fixed component e or a constrained
+    /// direction d) and w_f the integral of the node's shape function on f, boundary b gets
+    /// W_b M^+ r, W_b = sum_{f in b} w_f P_f and M = sum_f w_f P_f. The shares add up to r; for
+    /// fixed components this is each component's reaction split in proportion to w_f (when
+    /// each boundary took the whole reaction, a split Bingham wall carried 0.517 on each half of
+    /// 0.5).
     Tensor<1, dim>
     Problem::boundary_force(const types::boundary_id id) const
     {
-      // dof -> int of its shape function over the faces of `id`, and over the faces of every
-      // boundary that fixes its component
-      std::map<types::global_dof_index, double> on_id, on_all;
+      struct Node
+      {
+        types::global_dof_index y;
+        SymmetricTensor<2, dim> on_id, on_all; // W_id, M
+      };
+      std::map<types::global_dof_index, Node> nodes; // by x-dof
       {
         const QGauss<dim - 1> face_quadrature(3);
-        FEFaceValues<dim> fvf(mapping, fe_u, face_quadrature, update_values | update_JxW_values);
-        std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell());
+        FEFaceValues<dim>                    fvf(mapping, fe_u, face_quadrature,
+                                                 update_values | update_normal_vectors | update_JxW_values);
+        std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell()),
+            face_dofs(fe_u.n_dofs_per_face());
         for (const auto &cell : dof_u.active_cell_iterators())
           for (const unsigned int f : cell->face_indices())
             {
               if (!cell->face(f)->at_boundary())
                 continue;
               const types::boundary_id b = cell->face(f)->boundary_id();
-              std::vector<bool>        fixed(dim, false);
-              for (const auto &[vb, mask] : velocity_boundaries)
-                if (vb == b)
-                  for (unsigned int c = 0; c < dim; ++c)
-                    fixed[c] = fixed[c] || mask[c];
-              if (std::none_of(fixed.begin(), fixed.end(), [](bool x) { return x; }))
-                continue;
               fvf.reinit(cell, f);
+              const Tensor<1, dim>    n = fvf.normal_vector(0);
+              SymmetricTensor<2, dim> P;
+              for (const auto &vb : velocity_boundaries)
+                if (vb.id == b)
+                  {
+                    for (unsigned int c = 0; c < dim; ++c)
+                      P[c][c] += vb.mask[c] ? 1. : 0.;
+                    if (vb.direction != VelocityBoundary::Direction::none)
+                      {
+                        const Tensor<1, dim> d = vb.direction == VelocityBoundary::Direction::normal
+                                                     ? n
+                                                     : Tensor<1, dim>({-n[1], n[0]});
+                        P += symmetrize(outer_product(d, d));
+                      }
+                  }
+              if (P.norm() == 0.)
+                continue;
               cell->get_dof_indices(dofs);
+              cell->face(f)->get_dof_indices(face_dofs);
               for (unsigned int k = 0; k < fe_u.n_dofs_per_cell(); ++k)
                 {
-                  if (!fixed[fe_u.system_to_component_index(k).first])
+                  const auto [component, index] = fe_u.system_to_component_index(k);
+                  if (component != 0 ||
+                      std::find(face_dofs.begin(), face_dofs.end(), dofs[k]) == face_dofs.end())
                     continue;
-                  double integral = 0.;
+                  double w = 0.;
                   for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                    integral += fvf.shape_value(k, q) * fvf.JxW(q);
-                  on_all[dofs[k]] += integral;
+                    w += fvf.shape_value(k, q) * fvf.JxW(q);
+                  Node &node = nodes[dofs[k]];
+                  node.y     = dofs[fe_u.component_to_system_index(1, index)];
+                  node.on_all += w * P;
                   if (b == id)
-                    on_id[dofs[k]] += integral;
+                    node.on_id += w * P;
                 }
             }
       }
+      // (A u - l - H^T lambda)_i: zero to the solver's tolerance where i is free
+      const auto reaction = [&](const types::global_dof_index i) {
+        if (!reaction_dof[i])
+          return 0.;
+        double r = -load_all[i];
+        if (const auto row = A_constrained.find(i); row != A_constrained.end())
+          for (const auto &[j, a] : row->second)
+            r += a * u[j];
+        if (const auto column = H_constrained.find(i); column != H_constrained.end())
+          for (const auto &[k, h] : column->second)
+            r -= h * solution.lambda[k];
+        return r;
+      };
       Tensor<1, dim> force;
-      for (unsigned int c = 0; c < dim; ++c)
+      for (const auto &[x, node] : nodes)
         {
-          std::map<types::global_dof_index, double> on_boundary;
-          std::vector<bool>                         mask(dim, false);
-          mask[c] = true;
-          VectorTools::interpolate_boundary_values(mapping, dof_u, id,
-                                                   Functions::ZeroFunction<dim>(dim), on_boundary,
-                                                   ComponentMask(mask));
-          for (const auto &[i, unused] : on_boundary)
-            {
-              if (free_index[i] >= 0) // setup() accepts No-slip drag boundaries only
-                throw std::logic_error("boundary_force: a dof of the boundary is free");
-              double r = -load_all[i];
-              if (const auto row = A_constrained.find(i); row != A_constrained.end())
-                for (const auto &[j, a] : row->second)
-                  r += a * u[j];
-              if (const auto column = H_constrained.find(i); column != H_constrained.end())
-                for (const auto &[k, h] : column->second)
-                  r -= h * solution.lambda[k];
-              const double all = on_all[i];
-              force[c] -= r * (all > 0. ? on_id[i] / all : 1.);
-            }
+          if (node.on_id.norm() == 0.)
+            continue;
+          // M^+ (M is singular where one direction is fixed)
+          SymmetricTensor<2, dim> M_plus;
+          const auto              modes = eigenvectors(node.on_all);
+          for (const auto &[value, vector] : modes)
+            if (value > 1e-12 * modes.front().first)
+              M_plus += symmetrize(outer_product(vector, vector)) / value;
+          const Tensor<1, dim> r({reaction(x), reaction(node.y)});
+          force -= node.on_id * (M_plus * r);
         }
       return force;
     }

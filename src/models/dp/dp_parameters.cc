@@ -94,6 +94,19 @@ namespace granflow::dp
       prm.add_parameter("Zero y-velocity", b.zero_y_velocity,
                         "Boundaries with u_y = 0 (natural condition on u_x).", Anything());
       prm.add_parameter(
+          "Zero normal velocity", b.zero_normal_velocity,
+          "Free-slip boundaries at any inclination: u . n = 0, no tangential traction. At a node "
+          "n is the mean of its faces' normals weighted by the integral of its shape function on "
+          "each; where the faces meet at more than 45 degrees, or meet another velocity "
+          "condition in another direction, u = 0 at that node.",
+          Anything());
+      prm.add_parameter(
+          "Zero tangential velocity", b.zero_tangential_velocity,
+          "Boundaries at any inclination where the flow is normal to the boundary: u . t = 0, "
+          "normal traction -p_ext (External pressure, default 0); e.g. the ends of a channel "
+          "(Zero y-velocity on an end x = const). Nodes as for Zero normal velocity.",
+          Anything());
+      prm.add_parameter(
           "External pressure", b.external_pressure,
           "'name: p_ext, ...': traction -p_ext n on these boundaries (21), p_ext finite.",
           Anything());
@@ -169,7 +182,8 @@ namespace granflow::dp
           "Samples along the line, in [2, 100000]; those outside the mesh are left out.",
           Integer(2, 100000));
       prm.add_parameter("Drag boundary", o.drag_boundary,
-                        "No-slip boundary on which the drag F_D = int lambda n . e_x (6.3.1) and "
+                        "Boundary with a velocity condition on which the drag F_D = int lambda n . "
+                        "e_x (6.3.1) and "
                         "the material's force (boundary_force, with its viscous part) are "
                         "computed, from the reaction of the momentum equation; with Shape = "
                         "cylinder channel also the wake, the upstream pressure peak and (with "

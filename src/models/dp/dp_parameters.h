@@ -44,6 +44,8 @@ namespace granflow::dp
     std::string no_slip;           // u = 0
     std::string zero_x_velocity;   // u_x = 0, natural condition on the other component
     std::string zero_y_velocity;   // u_y = 0
+    std::string zero_normal_velocity;     // u . n = 0, no tangential traction (free slip)
+    std::string zero_tangential_velocity; // u . t = 0, normal traction as given (default 0)
     std::string external_pressure; // "name: p_ext, ...": traction sigma_ext n = -p_ext n (21)
     std::string analytic_traction; // "name, ...": traction of the case's analytic reference
   };

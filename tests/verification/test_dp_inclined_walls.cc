@@ -1,0 +1,176 @@
+// Velocity conditions on boundaries at any inclination: Zero normal velocity (free slip) and Zero
+// tangential velocity (flow normal to the boundary). Bingham Poiseuille flow (Daviet 6.1.1) in a
+// channel turned by 30 degrees, with the body force along it, is the axis-aligned flow turned by
+// 30 degrees: the analytic profile u(y') = (Re/2)[(1 - y'^2) - 2 Bi (1 - |y'|)] (plug |y'| <= Bi)
+// along the channel, in the channel's own coordinate y'.
+#include "support/csv.h"
+#include "support/dp_run.h"
+#include "support/structured_mesh.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <sstream>
+
+namespace
+{
+  using granflow::test::read_csv;
+  using granflow::test::run_dp;
+
+  constexpr double pi = 3.14159265358979323846;
+
+  double
+  poiseuille(double y, double Bi, double Re)
+  {
+    const double a = std::max(std::abs(y), Bi);
+    return 0.5 * Re * ((1. - a * a) - 2. * Bi * (1. - a));
+  }
+
+  std::string
+  str(double x)
+  {
+    std::ostringstream s;
+    s << x;
+    return s.str();
+  }
+
+  std::string
+  point(double x, double y)
+  {
+    std::ostringstream s;
+    s.precision(17);
+    s << x << ", " << y;
+    return s.str();
+  }
+
+  /// Velocity along and across the channel at the profile's samples, and their y'.
+  struct ChannelProfile
+  {
+    std::vector<double> y, along, across;
+  };
+
+  /// The profile of a run whose line is x' = x_line, y' from y0 to y1 (channel coordinates,
+  /// turned by `angle`).
+  ChannelProfile
+  channel_profile(const nlohmann::json &summary, double angle, double x_line)
+  {
+    const auto     csv = read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
+    const double   c = std::cos(angle), s = std::sin(angle);
+    ChannelProfile p;
+    for (std::size_t k = 0; k < csv[0].size(); ++k)
+      {
+        // The first column is y (it varies more along the line for |angle| < 45 degrees):
+        // y = x' sin + y' cos.
+        p.y.push_back((csv[0][k] - x_line * s) / c);
+        p.along.push_back(csv[1][k] * c + csv[2][k] * s);
+        p.across.push_back(-csv[1][k] * s + csv[2][k] * c);
+      }
+    return p;
+  }
+} // namespace
+
+TEST(InclinedWalls, TurnedChannelGivesTheTurnedFlow)
+{
+  // The same structured mesh of [-0.5, 0.5] x [-1, 1], axis-aligned with Zero y-velocity at its
+  // ends, and turned by 30 degrees with Zero tangential velocity there (the ends' tangent is
+  // the turned y axis). The two discrete problems are the same up to the rotation, so the
+  // velocities agree to the solver's accuracy; both match the analytic profile.
+  const double   Bi = 0.33, angle = pi / 6., x_line = -0.25; // yield surface inside elements
+  ChannelProfile profile[2];
+  for (const int turned : {0, 1})
+    {
+      const double a    = turned ? angle : 0.;
+      const auto   mesh = ::testing::TempDir() + "/channel_" + std::to_string(turned) + ".msh";
+      granflow::test::write_rectangle_msh(mesh, 10, 40, -0.5, 0.5, -1., 1., a);
+      const double c = std::cos(a), s = std::sin(a);
+      const auto   summary =
+          run_dp("bingham_poiseuille.prm",
+                 {{"Geometry/Shape", "file"},
+                  {"Geometry/Mesh file", mesh},
+                  {"Gravity direction", point(c, s)},
+                  {"Rheology/Bi", std::to_string(Bi)},
+                  {"Boundary conditions/Zero y-velocity", turned ? "" : "inlet, outlet"},
+                  {"Boundary conditions/Zero tangential velocity", turned ? "inlet, outlet" : ""},
+                  {"Output/Reference", "none"},
+                  {"Output/Profile start", point(c * x_line + s, s * x_line - c)},
+                  {"Output/Profile end", point(c * x_line - s, s * x_line + c)},
+                  {"Output/Write vtu", "false"}},
+                 "turned_channel_" + std::to_string(turned));
+      ASSERT_TRUE(summary["solver"]["converged"].get<bool>());
+      profile[turned] = channel_profile(summary, a, x_line);
+    }
+  ASSERT_EQ(profile[0].y.size(), 201u);
+  ASSERT_EQ(profile[1].y.size(), profile[0].y.size());
+  double max_ref = 0., max_error = 0., max_difference = 0., max_across = 0.;
+  for (std::size_t k = 0; k < profile[0].y.size(); ++k)
+    {
+      ASSERT_NEAR(profile[1].y[k], profile[0].y[k], 1e-9);
+      const double ref = poiseuille(profile[0].y[k], Bi, 1.);
+      max_ref          = std::max(max_ref, ref);
+      max_error        = std::max(max_error, std::abs(profile[1].along[k] - ref));
+      max_difference =
+          std::max({max_difference, std::abs(profile[1].along[k] - profile[0].along[k]),
+                    std::abs(profile[1].across[k] - profile[0].across[k])});
+      max_across = std::max(max_across, std::abs(profile[1].across[k]));
+    }
+  RecordProperty("max_rel_error", str(max_error / max_ref));
+  RecordProperty("turned_minus_aligned", str(max_difference / max_ref));
+  EXPECT_LE(max_error, 0.01 * max_ref);
+  EXPECT_LE(max_across, 1e-4 * max_ref) << "the flow runs along the turned channel";
+  EXPECT_LE(max_difference, 1e-4 * max_ref) << "the turned problem is the aligned one, turned";
+}
+
+TEST(InclinedWalls, FreeSlipCentrelineGivesHalfThePoiseuilleFlowAndCarriesNoShear)
+{
+  // Half of the turned channel, y' in [0, 1], with a free-slip wall (Zero normal velocity) on
+  // the centreline y' = 0, where the full channel's shear stress vanishes by symmetry: the flow
+  // is the full channel's, and the no-slip wall y' = 1 carries the whole body force on the
+  // half (area 1, along the channel). The ends are Zero tangential velocity; at their corners
+  // with the centreline both conditions fix the same direction, so the velocity there is free
+  // along the channel.
+  const double Bi = 0.37, angle = pi / 6., x_line = -0.25, c = std::cos(angle), s = std::sin(angle);
+  const auto   mesh = ::testing::TempDir() + "/half_channel.msh";
+  granflow::test::write_rectangle_msh(mesh, 10, 20, -0.5, 0.5, 0., 1., angle);
+  double along_force[2];
+  for (const std::string wall : {"top", "bottom"})
+    {
+      const auto summary =
+          run_dp("bingham_poiseuille.prm",
+                 {{"Geometry/Shape", "file"},
+                  {"Geometry/Mesh file", mesh},
+                  {"Gravity direction", point(c, s)},
+                  {"Rheology/Bi", std::to_string(Bi)},
+                  {"Boundary conditions/No-slip", "top"},
+                  {"Boundary conditions/Zero normal velocity", "bottom"},
+                  {"Boundary conditions/Zero y-velocity", ""},
+                  {"Boundary conditions/Zero tangential velocity", "inlet, outlet"},
+                  {"Output/Reference", "none"},
+                  {"Output/Drag boundary", wall},
+                  {"Output/Profile start", point(c * x_line, s * x_line)},
+                  {"Output/Profile end", point(c * x_line - s, s * x_line + c)},
+                  {"Output/Write vtu", "false"}},
+                 "half_channel_" + wall);
+      ASSERT_TRUE(summary["solver"]["converged"].get<bool>());
+      const auto force              = summary["boundary_force"];
+      along_force[wall == "bottom"] = force[0].get<double>() * c + force[1].get<double>() * s;
+      if (wall != "top")
+        continue;
+      const ChannelProfile p = channel_profile(summary, angle, x_line);
+      ASSERT_GE(p.y.size(), 100u);
+      double max_ref = 0., max_error = 0., max_across = 0.;
+      for (std::size_t k = 0; k < p.y.size(); ++k)
+        {
+          const double ref = poiseuille(p.y[k], Bi, 1.);
+          max_ref          = std::max(max_ref, ref);
+          max_error        = std::max(max_error, std::abs(p.along[k] - ref));
+          max_across       = std::max(max_across, std::abs(p.across[k]));
+        }
+      RecordProperty("max_rel_error", str(max_error / max_ref));
+      EXPECT_LE(max_error, 0.01 * max_ref);
+      EXPECT_LE(max_across, 1e-4 * max_ref);
+      // The velocity on the slip wall is along it, and as large as the plug's.
+      EXPECT_NEAR(p.along.front(), poiseuille(0., Bi, 1.), 0.01 * max_ref);
+    }
+  EXPECT_NEAR(along_force[0], 1., 2e-3) << "the no-slip wall carries the body force";
+  EXPECT_NEAR(along_force[1], 0., 2e-3) << "the slip wall carries no shear";
+}
