@@ -15,10 +15,12 @@ namespace granflow::test
   /// [x0, x1] x [y0, y1] in nx x ny squares, each cut along its diagonal, rotated by `angle`
   /// (radians, counterclockwise about the origin). Physical curves "bottom" (y = y0; its i-th
   /// segment named bottom_name(i) if given), "top", "inlet" (x = x0), "outlet"; surface "domain".
+  /// `shear`, if given, moves each node (x, y) to (x, y + shear(x)) before the rotation.
   inline void
   write_rectangle_msh(const std::string &file, const int nx, const int ny, const double x0,
                       const double x1, const double y0, const double y1, const double angle = 0.,
-                      const std::function<std::string(int)> &bottom_name = {})
+                      const std::function<std::string(int)> &bottom_name = {},
+                      const std::function<double(double)>   &shear       = {})
   {
     std::map<std::string, int> physical; // name -> tag
     const auto                 tag = [&](const std::string &name) {
@@ -62,7 +64,8 @@ namespace granflow::test
     for (int j = 0; j <= ny; ++j)
       for (int i = 0; i <= nx; ++i)
         {
-          const double x = x0 + (x1 - x0) * i / nx, y = y0 + (y1 - y0) * j / ny;
+          const double x = x0 + (x1 - x0) * i / nx,
+                       y = y0 + (y1 - y0) * j / ny + (shear ? shear(x) : 0.);
           msh << node(i, j) << " " << c * x - s * y << " " << s * x + c * y << " 0\n";
         }
     msh << "$EndNodes\n$Elements\n" << n_elements << "\n" << elements.str() << "$EndElements\n";

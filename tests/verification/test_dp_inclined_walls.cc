@@ -98,6 +98,18 @@ TEST(InclinedWalls, TurnedChannelGivesTheTurnedFlow)
                  "turned_channel_" + std::to_string(turned));
       ASSERT_TRUE(summary["solver"]["converged"].get<bool>());
       profile[turned] = channel_profile(summary, a, x_line);
+      // The discharge is int u dy' over the width (Simpson's rule on the analytic profile).
+      double Q = 0.;
+      for (int k = 0; k <= 2000; ++k)
+        Q += (k == 0 || k == 2000 ? 1.
+              : k % 2             ? 4.
+                                  : 2.) *
+             poiseuille(-1. + k / 1000., Bi, 1.) / 3000.;
+      const auto &outflow = summary["volume_outflow"];
+      EXPECT_NEAR(outflow["outlet"].get<double>(), Q, 0.01 * Q);
+      EXPECT_NEAR(outflow["inlet"].get<double>(), -Q, 0.01 * Q);
+      EXPECT_NEAR(outflow["top"].get<double>(), 0., 1e-12);
+      EXPECT_NEAR(outflow["bottom"].get<double>(), 0., 1e-12);
     }
   ASSERT_EQ(profile[0].y.size(), 201u);
   ASSERT_EQ(profile[1].y.size(), profile[0].y.size());
@@ -173,4 +185,46 @@ TEST(InclinedWalls, FreeSlipCentrelineGivesHalfThePoiseuilleFlowAndCarriesNoShea
     }
   EXPECT_NEAR(along_force[0], 1., 2e-3) << "the no-slip wall carries the body force";
   EXPECT_NEAR(along_force[1], 0., 2e-3) << "the slip wall carries no shear";
+}
+
+TEST(InclinedWalls, FlowFollowsAKinkedFreeSlipWallAndDoesNotLeakThroughIt)
+{
+  // A channel with a bump: its walls rise with slope 0.3 from x = -0.25 to 0 and fall back by
+  // x = 0.25 (kinks of 16.7 degrees at x = -0.25 and 0.25, of 33.4 degrees at x = 0), free slip
+  // on the bottom (two boundaries: b1 for x < 0, b2 for x > 0), no slip on the top. At a kink
+  // node the direction is the consistent normal: the flux through b1 or b2 alone is not zero,
+  // because of the kink where they meet, but their sum is, and the flow passes each kink.
+  const auto mesh = ::testing::TempDir() + "/bump_channel.msh";
+  granflow::test::write_rectangle_msh(
+      mesh, 20, 20, -0.5, 0.5, -1., 1., 0., [](int i) { return i < 10 ? "b1" : "b2"; },
+      [](double x) { return 0.3 * std::max(0., 0.25 - std::abs(x)); });
+  const auto summary = run_dp("bingham_poiseuille.prm",
+                              {{"Geometry/Shape", "file"},
+                               {"Geometry/Mesh file", mesh},
+                               {"Rheology/Bi", "0.2"},
+                               {"Boundary conditions/No-slip", "top"},
+                               {"Boundary conditions/Zero normal velocity", "b1, b2"},
+                               {"Boundary conditions/Zero y-velocity", ""},
+                               {"Boundary conditions/Zero tangential velocity", "inlet, outlet"},
+                               {"Output/Reference", "none"},
+                               {"Output/Profile start", "-0.25, -1"},
+                               {"Output/Profile end", "-0.25, 1"},
+                               {"Output/Write vtu", "false"}},
+                              "bump_channel");
+  ASSERT_TRUE(summary["solver"]["converged"].get<bool>());
+  const auto  &outflow = summary["volume_outflow"];
+  const double Q       = outflow["outlet"].get<double>();
+  ASSERT_GT(Q, 0.1);
+  EXPECT_GT(std::abs(outflow["b1"].get<double>()), 1e-4 * Q) << "each face leaks at the kink";
+  EXPECT_NEAR(outflow["b1"].get<double>() + outflow["b2"].get<double>(), 0., 1e-12 * Q);
+  EXPECT_NEAR(summary["volume_outflow_total"].get<double>(), summary["dilation_rate"].get<double>(),
+              1e-10 * Q);
+  // The kink node (-0.25, -1) joins a face of length h (normal (0, -1)) and one of length
+  // h sqrt(1.09) (normal (0.3, -1) / sqrt(1.09)); weighted by their lengths, the normal is along
+  // (0.3, -2), and the velocity there along (2, 0.3). The profile's first sample is 2e-9 above it.
+  const auto profile = read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
+  ASSERT_NEAR(profile[0].front(), -1., 1e-8);
+  const double u_x = profile[1].front(), u_y = profile[2].front();
+  EXPECT_GT(u_x, 0.3 * Q);
+  EXPECT_NEAR(u_y, 0.15 * u_x, 1e-6 * u_x);
 }

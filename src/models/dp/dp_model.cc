@@ -175,13 +175,13 @@ namespace granflow::dp
 
     /// Zero normal and Zero tangential velocity: at each node of these faces, u . d = 0 along
     /// one direction d: the faces' normal (free slip) or tangent (flow normal to the boundary).
-    /// Where faces meet at an angle, d is the principal direction of sum_f w_f d_f d_f^T, w_f the
-    /// integral of the node's shape function on face f: for two faces, the mean of their
-    /// directions weighted by w_f (Engelman's consistent normal for a slip wall), whatever
-    /// the signs of d_f. That lets the flow follow a polygonal wall, or the chords of a curved
-    /// one, round its kinks. Where two faces' directions differ by more than 45 degrees, as at the
-    /// corner of a box, no direction is free and the node is fixed (u = 0); so is a node where
-    /// another velocity condition already fixes a component other than along d.
+    /// Where faces meet at an angle, d is sum_f w_f d_f normalised, w_f the integral of the
+    /// node's shape function on face f (each d_f turned to agree in sign with the first): for a
+    /// slip wall, Engelman's consistent normal, with which the flux through the wall is zero in
+    /// all (each face's is not, at a kink). That lets the flow follow a polygonal wall, or the
+    /// chords of a curved one, round its kinks. Where two faces' directions differ by more than 45
+    /// degrees, as at the corner of a box, no direction is free and the node is fixed (u = 0); so
+    /// is a node where another velocity condition already fixes a component other than along d.
     void
     Problem::constrain_directions()
     {
@@ -205,8 +205,8 @@ namespace granflow::dp
       struct Node
       {
         types::global_dof_index     y;
-        SymmetricTensor<2, dim>     M; // sum_f w_f d_f d_f^T
-        std::vector<Tensor<1, dim>> d; // d_f of each face
+        Tensor<1, dim>              sum; // sum_f w_f d_f, signs aligned
+        std::vector<Tensor<1, dim>> d;   // d_f of each face
       };
       std::map<types::global_dof_index, Node> nodes; // by x-dof
       const QGauss<dim - 1>                   face_quadrature(3);
@@ -243,7 +243,7 @@ namespace granflow::dp
                   w += fvf.shape_value(k, q) * fvf.JxW(q);
                 Node &node = nodes[dofs[k]];
                 node.y     = dofs[fe_u.component_to_system_index(1, index)];
-                node.M += w * symmetrize(outer_product(d, d));
+                node.sum += (node.d.empty() || node.d.front() * d >= 0. ? w : -w) * d;
                 node.d.push_back(d);
               }
           }
@@ -258,7 +258,7 @@ namespace granflow::dp
           for (const auto &a : node.d)
             for (const auto &b : node.d)
               corner = corner || std::abs(a * b) < cos_corner;
-          Tensor<1, dim> d = eigenvectors(node.M).front().second; // the largest
+          Tensor<1, dim> d = node.sum / node.sum.norm();
           for (unsigned int c = 0; c < dim; ++c) // an axis stays an axis, to the last bit
             if (std::abs(d[c]) < 1e-14)
               d[c] = 0.;
@@ -1194,6 +1194,34 @@ namespace granflow::dp
             }
         }
       out.write_csv("profiles/velocity.csv", header, columns);
+
+      // Volume flux out through each named boundary (per unit depth; negative where material
+      // enters): a silo's discharge rate is its outlet's. Their sum is int div u, the rate at
+      // which the material dilates (div u >= 0 where it loses contact, Daviet 2.2).
+      {
+        nlohmann::json outflow = nlohmann::json::object();
+        double         total   = 0.;
+        for (const auto &[name, id] : mesh.boundary_ids)
+          {
+            const double f = postprocess::boundary_normal_flux(mapping, dof_u, u, id).flux;
+            outflow[name]  = f;
+            total += f;
+          }
+        S["volume_outflow"]       = outflow;
+        S["volume_outflow_total"] = total;
+        FEValues<dim> fv(mapping, fe_u, quadrature, update_gradients | update_JxW_values);
+        const FEValuesExtractors::Vector velocity(0);
+        std::vector<double>              div(quadrature.size());
+        double                           dilation = 0.;
+        for (const auto &cell : dof_u.active_cell_iterators())
+          {
+            fv.reinit(cell);
+            fv[velocity].get_function_divergences(u, div);
+            for (unsigned int q = 0; q < quadrature.size(); ++q)
+              dilation += div[q] * fv.JxW(q);
+          }
+        S["dilation_rate"] = dilation;
+      }
 
       // U_infinity is the inflow's mean speed on any mesh, positive into the domain.
       double U_inf = 0., inflow_u_x = 0.;
