@@ -131,6 +131,18 @@ namespace granflow::ngf
       /// Nodal velocity (v_x, v_y, v_z, dg/dt) or (v_r, v_z, v_theta = r dtheta/dt, dg/dt).
       Vector<double>
       velocity(double dt) const;
+      void
+      warn_if_outside_elastic_range();
+      void
+      predict(const Vector<double> &rate, double dt);
+      std::string
+      newton_failure(bool loading, double dt, double du, double u_wall) const;
+      Vector<double>
+      increment_rate(double dt) const;
+      void
+      write_histories(const std::vector<double> &wall_displacement,
+                      const std::vector<double> &mu_wall,
+                      const std::vector<double> &newton_iterations);
       /// The finite-difference solution of (90) or (92) if Output/Reference asks for it; computed
       /// before the solve, so that parameters it cannot handle end the run at once as bad input.
       void
@@ -780,23 +792,7 @@ namespace granflow::ngf
                 (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
                 ", h/d = " + std::to_string(scale.h / d) + ", " +
                 std::to_string(dof_handler.n_dofs()) + " dofs\n");
-      {
-        // The paper's cases strain the grains elastically by about 1e-4 (p / B, tau / S at
-        // S = 1 MPa); loads of the order of the moduli compact the bed by tens of per cent, where
-        // the quadratic energy (12) and phi = const (27) stop being a model of a granular bed.
-        const double p_max  = column ? scale.P_wall + scale.body_force * scale.depth
-                                     : std::max(scale.P_wall, scale.body_force * scale.H);
-        const double strain = p_max / std::min(prm.material.elastic.S, prm.material.elastic.B);
-        if (strain > 0.01)
-          {
-            std::ostringstream w;
-            w << std::setprecision(3) << "the largest pressure, about " << p_max << " Pa, is "
-              << strain
-              << " times the smaller elastic modulus: elastic strains that large are outside the "
-                 "model's intended range (Henann 6: about 1e-4)";
-            warn(w.str());
-          }
-      }
+      warn_if_outside_elastic_range();
       log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
                   << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u"
                   << std::setw(12) << "R_g" << '\n';
@@ -828,23 +824,7 @@ namespace granflow::ngf
           const double step =
               loading ? 0. : remaining / std::max(1., std::ceil(remaining / du - 1e-9));
           const double dt   = (loading ? du : step) / scale.v_wall;
-          // Predictor: continue the last increment's motion (the steady flow is then almost exact).
-          // The slice turns about z, so its x and y rates are kept as (dr/dt, dphi/dt) of each
-          // node: a linear extrapolation of Cartesian displacements would cut the chord of the arc,
-          // an error of R dphi^2 / 2 that exceeds the elastic strains at the wall.
-          U = U_n;
-          for (types::global_dof_index i = 0; i < U.size(); ++i)
-            if (slice && dof_component[i] == 0)
-              {
-                const Point<dim> &X = dof_point[i];
-                const double      x = X[0] + U_n[i], y = X[1] + U_n[i + 1];
-                const double      r   = std::hypot(x, y) + rate[i] * dt;
-                const double      phi = std::atan2(y, x) + rate[i + 1] * dt;
-                U[i]                  = r * std::cos(phi) - X[0];
-                U[i + 1]              = r * std::sin(phi) - X[1];
-              }
-            else if (dof_component[i] < 3 && !(slice && dof_component[i] == 1))
-              U[i] += rate[i] * dt;
+          predict(rate, dt);
           make_constraints(step_constraints, u_wall + step, false);
           step_constraints.distribute(U);
           unsigned int iterations = 0;
@@ -854,46 +834,7 @@ namespace granflow::ngf
               ++cuts;
               if (du < 1e-6 * prm.solver.first_increment * d)
                 {
-                  std::ostringstream s;
-                  if (loading)
-                    {
-                      s << "Newton did not converge in the loading step (increment 0: gravity and "
-                           "wall pressure applied with the wall at rest), even over a time step of "
-                        << dt << " s";
-                      // At rest the fluidity has no source, and an outward flux needs g < 0,
-                      // which the model excludes (g >= 0).
-                      for (const auto &[name, zeta] : prm.fluidity_neumann())
-                        if (zeta < 0.)
-                          s << "; the Neumann fluidity condition '" << name << ": " << zeta
-                            << "' (an outward flux of fluidity) has no solution with g >= 0 while "
-                               "the body is at rest";
-                    }
-                  else
-                    s << "Newton did not converge at wall displacement " << u_wall / d
-                      << " d even with an increment of " << du / d << " d";
-                  // The last attempt's best iterate (least max(R_u, R_g)): below 1e-6 (the
-                  // default tolerance) but not below a tighter one, its residuals may be at their
-                  // round-off floor (about 5e-14 for R_u while the total deformation is small, more
-                  // once it is of order 1; docs/ngf.md), and a looser tolerance is the remedy.
-                  const NewtonRecord *best = nullptr;
-                  for (auto r = newton_log.rbegin(); r != newton_log.rend(); ++r)
-                    {
-                      if (!best || std::max(r->R_u, r->R_g) < std::max(best->R_u, best->R_g))
-                        best = &*r;
-                      if (r->iteration == 0)
-                        break;
-                    }
-                  const double tol = prm.solver.tolerance;
-                  if (best)
-                    {
-                      s << " (best iterate of the last attempt: iteration " << best->iteration
-                        << ", R_u " << best->R_u << ", R_g " << best->R_g << ")";
-                      if (std::max(best->R_u, best->R_g) < 1e-6)
-                        s << "; below 1e-6 but not below Solver/Tolerance = " << tol
-                          << ", they may have reached their round-off floor (docs/ngf.md): try a "
-                             "larger tolerance";
-                    }
-                  failure = s.str();
+                  failure = newton_failure(loading, dt, du, u_wall);
                   U       = U_n;
                   assemble(
                       0.,
@@ -909,22 +850,7 @@ namespace granflow::ngf
           if (!loading)
             {
               v          = velocity(dt);
-              rate       = U;
-              rate -= U_n;
-              rate /= dt;
-              if (slice)
-                for (types::global_dof_index i = 0; i < U.size(); ++i)
-                  if (dof_component[i] == 0)
-                    {
-                      // (dr/dt, dphi/dt) in place of (du_x/dt, du_y/dt); x and y dofs of a node are
-                      // adjacent
-                      const Point<dim> &X  = dof_point[i];
-                      const double      x1 = X[0] + U[i], y1 = X[1] + U[i + 1];
-                      const double      x0 = X[0] + U_n[i], y0 = X[1] + U_n[i + 1];
-                      rate[i] = (std::hypot(x1, y1) - std::hypot(x0, y0)) / dt;
-                      rate[i + 1] =
-                          std::remainder(std::atan2(y1, x1) - std::atan2(y0, x0), 2. * M_PI) / dt;
-                    }
+              rate       = increment_rate(dt);
               u_wall += step;
               mu_wall = wall_stress_ratio();
               // The state at the start of the last tenth of the run, for the steadiness verdict.
@@ -1036,21 +962,7 @@ namespace granflow::ngf
       postprocess(summary, v, failure.empty() && steady["steady"].get<bool>());
       if (prm.output.write_vtu)
         write_vtu(v);
-      std::vector<double> inc, it, ru, rg, cu, cg;
-      for (const auto &r : newton_log)
-        {
-          inc.push_back(r.increment);
-          it.push_back(r.iteration);
-          ru.push_back(r.R_u);
-          rg.push_back(r.R_g);
-          cu.push_back(r.dU_u);
-          cg.push_back(r.dU_g);
-        }
-      out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations"},
-                    {h_disp, h_mu, h_iter});
-      out.write_csv("newton.csv",
-                    {"increment", "iteration", "R_u", "R_g", "correction_u", "correction_g"},
-                    {inc, it, ru, rg, cu, cg});
+      write_histories(h_disp, h_mu, h_iter);
       summary["timings"]                  = {{"total_s", log.elapsed()},
                                              {"assembly_s", assembly_seconds},
                                              {"linear_solve_s", solve_seconds}};
@@ -1073,6 +985,146 @@ namespace granflow::ngf
                 std::to_string(increment) + " increments, " + std::to_string(total_iterations) +
                 " Newton iterations, " + std::to_string(log.elapsed()) + " s\n");
       return {summary};
+    }
+
+    /// The paper's cases strain the grains elastically by about 1e-4 (p / B, tau / S at
+    /// S = 1 MPa); loads of the order of the moduli compact the bed by tens of per cent, where the
+    /// quadratic energy (12) and phi = const (27) stop being a model of a granular bed.
+    template <int dim>
+    void
+    Problem<dim>::warn_if_outside_elastic_range()
+    {
+      const double p_max  = column ? scale.P_wall + scale.body_force * scale.depth
+                                   : std::max(scale.P_wall, scale.body_force * scale.H);
+      const double strain = p_max / std::min(prm.material.elastic.S, prm.material.elastic.B);
+      if (strain > 0.01)
+        {
+          std::ostringstream w;
+          w << std::setprecision(3) << "the largest pressure, about " << p_max << " Pa, is "
+            << strain
+            << " times the smaller elastic modulus: elastic strains that large are outside the "
+               "model's intended range (Henann 6: about 1e-4)";
+          warn(w.str());
+        }
+    }
+
+    /// U at the start of an increment of length dt: U_n continued at the last increment's rate
+    /// (the steady flow is then almost exact). The slice turns about z, so its x and y rates are
+    /// kept as (dr/dt, dphi/dt) of each node: a linear extrapolation of Cartesian displacements
+    /// would cut the chord of the arc, an error of R dphi^2 / 2 that exceeds the elastic strains
+    /// at the wall.
+    template <int dim>
+    void
+    Problem<dim>::predict(const Vector<double> &rate, const double dt)
+    {
+      U = U_n;
+      for (types::global_dof_index i = 0; i < U.size(); ++i)
+        if (slice && dof_component[i] == 0)
+          {
+            const Point<dim> &X = dof_point[i];
+            const double      x = X[0] + U_n[i], y = X[1] + U_n[i + 1];
+            const double      r   = std::hypot(x, y) + rate[i] * dt;
+            const double      phi = std::atan2(y, x) + rate[i + 1] * dt;
+            U[i]                  = r * std::cos(phi) - X[0];
+            U[i + 1]              = r * std::sin(phi) - X[1];
+          }
+        else if (dof_component[i] < 3 && !(slice && dof_component[i] == 1))
+          U[i] += rate[i] * dt;
+    }
+
+    /// Why the run stops when an increment cannot be completed even at the smallest increment:
+    /// the attempt's time step or wall displacement, and its best iterate.
+    template <int dim>
+    std::string
+    Problem<dim>::newton_failure(const bool loading, const double dt, const double du,
+                                 const double u_wall) const
+    {
+      std::ostringstream s;
+      if (loading)
+        {
+          s << "Newton did not converge in the loading step (increment 0: gravity and wall "
+               "pressure applied with the wall at rest), even over a time step of "
+            << dt << " s";
+          // At rest the fluidity has no source, and an outward flux needs g < 0, which the
+          // model excludes (g >= 0).
+          for (const auto &[name, zeta] : prm.fluidity_neumann())
+            if (zeta < 0.)
+              s << "; the Neumann fluidity condition '" << name << ": " << zeta
+                << "' (an outward flux of fluidity) has no solution with g >= 0 while the body is "
+                   "at rest";
+        }
+      else
+        s << "Newton did not converge at wall displacement " << u_wall / scale.d
+          << " d even with an increment of " << du / scale.d << " d";
+      // The last attempt's best iterate (least max(R_u, R_g)): below 1e-6 (the default
+      // tolerance) but not below a tighter one, its residuals may be at their round-off floor
+      // (about 5e-14 for R_u while the total deformation is small, more once it is of order 1;
+      // docs/ngf.md), and a looser tolerance is the remedy.
+      const NewtonRecord *best = nullptr;
+      for (auto r = newton_log.rbegin(); r != newton_log.rend(); ++r)
+        {
+          if (!best || std::max(r->R_u, r->R_g) < std::max(best->R_u, best->R_g))
+            best = &*r;
+          if (r->iteration == 0)
+            break;
+        }
+      if (best)
+        {
+          s << " (best iterate of the last attempt: iteration " << best->iteration << ", R_u "
+            << best->R_u << ", R_g " << best->R_g << ")";
+          if (std::max(best->R_u, best->R_g) < 1e-6)
+            s << "; below 1e-6 but not below Solver/Tolerance = " << prm.solver.tolerance
+              << ", they may have reached their round-off floor (docs/ngf.md): try a larger "
+                 "tolerance";
+        }
+      return s.str();
+    }
+
+    /// (U - U_n) / dt; for the slice, (dr/dt, dphi/dt) of each node in place of its x and y
+    /// rates (see predict()).
+    template <int dim>
+    Vector<double>
+    Problem<dim>::increment_rate(const double dt) const
+    {
+      Vector<double> rate = U;
+      rate -= U_n;
+      rate /= dt;
+      if (slice)
+        for (types::global_dof_index i = 0; i < U.size(); ++i)
+          if (dof_component[i] == 0)
+            {
+              // x and y dofs of a node are adjacent
+              const Point<dim> &X  = dof_point[i];
+              const double      x1 = X[0] + U[i], y1 = X[1] + U[i + 1];
+              const double      x0 = X[0] + U_n[i], y0 = X[1] + U_n[i + 1];
+              rate[i]     = (std::hypot(x1, y1) - std::hypot(x0, y0)) / dt;
+              rate[i + 1] = std::remainder(std::atan2(y1, x1) - std::atan2(y0, x0), 2. * M_PI) / dt;
+            }
+      return rate;
+    }
+
+    /// history.csv (per increment) and newton.csv (per Newton iterate).
+    template <int dim>
+    void
+    Problem<dim>::write_histories(const std::vector<double> &wall_displacement,
+                                  const std::vector<double> &mu_wall,
+                                  const std::vector<double> &newton_iterations)
+    {
+      std::vector<double> inc, it, ru, rg, cu, cg;
+      for (const auto &r : newton_log)
+        {
+          inc.push_back(r.increment);
+          it.push_back(r.iteration);
+          ru.push_back(r.R_u);
+          rg.push_back(r.R_g);
+          cu.push_back(r.dU_u);
+          cg.push_back(r.dU_g);
+        }
+      out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations"},
+                    {wall_displacement, mu_wall, newton_iterations});
+      out.write_csv("newton.csv",
+                    {"increment", "iteration", "R_u", "R_g", "correction_u", "correction_g"},
+                    {inc, it, ru, rg, cu, cg});
     }
 
     template <int dim>
