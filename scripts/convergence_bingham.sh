@@ -2,12 +2,13 @@
 # Daviet 6.1.2 / Fig. 5: max-norm and H1 errors of the Bingham Poiseuille flow against the analytic
 # profile under uniform refinement, for P2-P1 (continuous stress, trapezoidal rule) and P2-P1d,
 # at Bi = 0.5 and 0.9. Writes DIR/convergence.csv and DIR/convergence-*.png.
-# The solver tolerance shrinks with the triangle area, 1e-8 / 4^r: gamma is weighted by the area of
-# its constraint point (Property 3), so a fixed Fischer-Burmeister tolerance admits strain-rate
-# errors that grow like tol / h^2 and, at Bi = 0.9 on the fifth mesh, exceed the discretisation
-# error (1e-8 there: max-norm error 8.8e-5 against 1.8e-5 at 1e-10). Below about 1e-10 the SPG
-# inner solves barely progress, so each solve is capped at 600 s and keeps its best iterate
-# (exit 3); the CSV records the residual reached.
+# The solver tolerance is 1e-6 on every mesh: the residual compares the stress with the viscous
+# stress of the strain rate at each point, so it means the same under refinement. (Before session
+# 12 gamma carried the weight of its point, a strain-rate error of tol / h^2 passed, and the
+# tolerance had to shrink as 1e-8 / 4^r; that rule is this one to within a factor 2, and the
+# results in docs/results/daviet2016/convergence* were measured with it. 1e-8 on the fifth mesh at
+# Bi = 0.9 gave a max-norm error of 8.8e-5 against 1.8e-5 at 1e-10.) Each solve is capped at 600 s
+# and keeps its best iterate (exit 3); the CSV records the residual reached.
 #   scripts/convergence_bingham.sh [BUILD_DIR] [OUT_DIR] [MESHES]
 set -euo pipefail
 build=${1:-build} out=${2:-results/convergence_bingham} levels=${3:-5}
@@ -25,7 +26,7 @@ for element in P1 P1d; do
       run="$out/runs/${element}_Bi${Bi}_r$r"
       "$granflow" run cases/daviet2016/bingham_poiseuille.prm --quiet --output "$run" \
         --set "Solver/Stress element=$element" --set "Rheology/Bi=$Bi" --set "Geometry/Mesh size=0.2" \
-        --set "Geometry/Global refinements=$r" --set "Solver/Tolerance=$(awk "BEGIN { print 1e-8 / 4^$r }")" \
+        --set "Geometry/Global refinements=$r" --set "Solver/Tolerance=1e-6" \
         --set "Solver/Max seconds=600" --set "Output/Write vtu=false" >/dev/null || [ $? -eq 3 ]
       /usr/bin/python3 - "$run/summary.json" "$element" "$Bi" "$r" >>"$csv" <<'PY'
 import json, sys

@@ -24,6 +24,11 @@ namespace granflow::solvers
     std::vector<double> k;              // H applied to the Dirichlet lifting
     std::vector<double> mu;             // friction coefficient per constraint point
     std::vector<double> Bi;             // Bingham number per constraint point
+    /// Per point, > 0 (empty: all 1): the residual compares lambda_i with gamma_scale_i gamma_i,
+    /// so that a tolerance means the same at every point. gamma_i carries the point's weight
+    /// (Property 3); the dp model divides it out and turns the strain rate into the viscous stress
+    /// it drives, 1 / (Re w_i). The solution does not depend on it.
+    std::vector<double> gamma_scale;
 
     std::size_t
     n_points() const
@@ -113,7 +118,8 @@ namespace granflow::solvers
                                     const ConeSolverOptions &options,
                                     ConeSolution            &solution);
 
-  /// Residual of DP(mu, Bi) at every point, infinity norm over the points of the Euclidean norms.
+  /// Residual of DP(mu, Bi) at every point (lambda_i against gamma_scale_i gamma_i), infinity norm
+  /// over the points of the Euclidean norms.
   double
   cone_residual(const ConeProblemData     &data,
                 ResidualKind               kind,

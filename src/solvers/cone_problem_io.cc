@@ -67,6 +67,7 @@ namespace granflow::solvers
     write_vector(out, data.k);
     write_vector(out, data.mu);
     write_vector(out, data.Bi);
+    write_vector(out, data.gamma_scale);
   }
 
   ConeProblemData
@@ -87,6 +88,8 @@ namespace granflow::solvers
     read_vector(in, data.k);
     read_vector(in, data.mu);
     read_vector(in, data.Bi);
+    if (in.peek() != std::char_traits<char>::eof()) // dumps before session 12 end here
+      read_vector(in, data.gamma_scale);
     if (!in)
       throw std::runtime_error("'" + file + "' is truncated");
     return data;

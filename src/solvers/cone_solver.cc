@@ -198,16 +198,18 @@ namespace granflow::solvers
           }
       }
 
-      /// Natural-map residual of the inner SOCQP, max_i || lambda_i - Pi_K(lambda_i - g_i) ||.
+      /// Natural-map residual of the inner SOCQP, max_i || lambda_i - Pi_K(lambda_i - c_i g_i) ||,
+      /// with the outer residual's gamma_scale c_i (its zeros are the same for any c_i > 0).
       double
       projected_gradient_norm(const Vector &lambda, const Vector &g) const
       {
         double r = 0.;
         for (std::size_t i = 0; i < data.n_points(); ++i)
           {
+            const double          c = data.gamma_scale.empty() ? 1. : data.gamma_scale[i];
             std::array<double, n> y;
             for (std::size_t j = 0; j < n; ++j)
-              y[j] = lambda[i * n + j] - g[i * n + j];
+              y[j] = lambda[i * n + j] - c * g[i * n + j];
             const auto p = rheology::project_onto_truncated_cone(y, data.mu[i], data.Bi[i]);
             double     s = 0.;
             for (std::size_t j = 0; j < n; ++j)
@@ -223,7 +225,11 @@ namespace granflow::solvers
         double r = 0.;
         for (std::size_t i = 0; i < data.n_points(); ++i)
           {
-            const auto l = block(lambda, i), g = block(gamma, i);
+            const auto l = block(lambda, i);
+            auto       g = block(gamma, i);
+            if (!data.gamma_scale.empty())
+              for (auto &gj : g)
+                gj *= data.gamma_scale[i];
             const auto f = (kind == ResidualKind::fischer_burmeister && data.Bi[i] == 0.) ?
                              rheology::f_FB(l, g, data.mu[i]) :
                              rheology::f_AC(l, g, data.mu[i], data.Bi[i]);

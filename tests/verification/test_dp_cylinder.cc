@@ -26,7 +26,9 @@ TEST(CylinderFlow, WakeHasZeroPressureAndDilatesAndDragIsReported)
 
   ASSERT_TRUE(s["solver"]["converged"].get<bool>());
   ASSERT_GT(s["wake"]["points"].get<int>(), 100);
-  EXPECT_EQ(s["wake"]["max_pressure"].get<double>(), 0.);
+  // zero to the solver's tolerance (1e-6, in units of stress): the interior point's iterates stay
+  // inside the cone
+  EXPECT_LE(s["wake"]["max_pressure"].get<double>(), s["solver"]["tolerance"].get<double>());
   EXPECT_GT(s["wake"]["min_div_u"].get<double>(), 0.);
   EXPECT_GT(s["pressure"]["max"].get<double>(), 0.);
   EXPECT_GT(s["drag"].get<double>(), 0.);
@@ -68,25 +70,28 @@ TEST(CylinderFlow, MirroredFlowHasItsWakeDownstreamWhicheverEndIsNamedInflow)
 TEST(CylinderFlow, InteriorPointAndFixedPointGiveTheSameFlow)
 {
   // Two independent methods: the interior point works on the whole problem, the fixed point on a
-  // sequence of cone QPs (whose velocity is unique at fixed s, 4.4.4). Both reach a residual of
-  // 1e-6 and must find the same flow. A coarser mesh (501 vertices) keeps the fixed point to a
-  // few seconds.
+  // sequence of cone QPs (whose velocity is unique at fixed s, 4.4.4). They reach residuals of
+  // 1e-6 and 1e-5 (the fixed point would take minutes to 1e-6; the residual is in units of stress,
+  // 1e-5 of a pressure of order 1) and must find the same flow. A coarser mesh (501 vertices)
+  // keeps the fixed point to a few seconds.
   const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/daviet2016/cylinder.prm";
   nlohmann::json    summary[2];
-  const char       *methods[2] = {"fixed point", "interior point"};
+  const char *methods[2] = {"fixed point", "interior point"}, *tolerance[2] = {"1e-5", "1e-6"};
   for (int k = 0; k < 2; ++k)
     {
-      const auto parameters = granflow::dp::load_parameters(case_file,
-                                                            {{"Output/Write vtu", "false"},
-                                                             {"Geometry/Mesh size", "0.1"},
-                                                             {"Solver/Method", methods[k]}});
+      const auto parameters =
+          granflow::dp::load_parameters(case_file, {{"Output/Write vtu", "false"},
+                                                    {"Geometry/Mesh size", "0.1"},
+                                                    {"Solver/Method", methods[k]},
+                                                    {"Solver/Tolerance", tolerance[k]}});
       const std::string dir = ::testing::TempDir() + "/granflow_cylinder_method" + std::to_string(k);
       std::filesystem::remove_all(dir);
       granflow::OutputDirectory out(dir);
       granflow::Logger          log(out.file("log.txt"), false);
       summary[k] = granflow::dp::run(parameters, out, log).summary;
       ASSERT_TRUE(summary[k]["solver"]["converged"].get<bool>()) << methods[k];
-      EXPECT_LE(summary[k]["solver"]["residual"].get<double>(), 1e-6) << methods[k];
+      EXPECT_LE(summary[k]["solver"]["residual"].get<double>(), std::stod(tolerance[k]))
+          << methods[k];
       // The fixed point projects onto the cone, so the wake pressure is exactly 0; the interior
       // point's iterates stay inside the cone, so there it is 0 to the solver's accuracy.
       EXPECT_LE(summary[k]["wake"]["max_pressure"].get<double>(),
@@ -170,4 +175,28 @@ TEST(DragForce, CornerReactionsAreSharedBetweenTheWallsThatMeetThere)
       total += s["boundary_force"][0].get<double>();
     }
   EXPECT_NEAR(total, 1., 1e-3);
+}
+
+TEST(CylinderFlow, ASlowerFlowIsTheSameFlowScaled)
+{
+  // Daviet (23) with Bi = 0: the viscous stress is 2/Re eta D(u) and nothing else depends on Re,
+  // so u scales with Re and lambda does not. At Re = 1e-3 the velocities are 1e-3 of those at
+  // Re = 1 and the drag is the same. (When the residual measured the strain rate without its
+  // Re, the run at Re = 1e-3 passed its tolerance at the starting iterate: U_infinity 9.1e-5 for
+  // 1.6e-5, drag 0.012 for 0.47.)
+  nlohmann::json s[2];
+  const char    *Re[2] = {"1", "0.001"};
+  for (int k = 0; k < 2; ++k)
+    {
+      s[k] = run_dp(
+          "cylinder.prm",
+          {{"Rheology/Re", Re[k]}, {"Geometry/Mesh size", "0.1"}, {"Output/Write vtu", "false"}},
+          std::string("cylinder_Re") + Re[k]);
+      ASSERT_TRUE(s[k]["solver"]["converged"].get<bool>()) << "Re = " << Re[k];
+    }
+  EXPECT_NEAR(s[1]["U_infinity"].get<double>(), 1e-3 * s[0]["U_infinity"].get<double>(),
+              1e-6 * s[0]["U_infinity"].get<double>());
+  EXPECT_NEAR(s[1]["drag"].get<double>(), s[0]["drag"].get<double>(),
+              1e-3 * s[0]["drag"].get<double>());
+  EXPECT_EQ(s[1]["zones"]["flowing_points"], s[0]["zones"]["flowing_points"]);
 }

@@ -92,6 +92,8 @@ namespace granflow::dp
       assemble_velocity_operator(const std::vector<double> &eta);
       void
       assemble_constraint_operator();
+      void
+      set_residual_scale(const std::vector<double> &eta);
       solvers::ConeSolverStats
       solve_cone_problem();
       std::vector<double>
@@ -572,6 +574,36 @@ namespace granflow::dp
       data.Bi.assign(n_points, prm.rheology.Bi);
     }
 
+    /// The residual compares lambda_i (a stress, in units of rho g L) with eta_i gamma_i /
+    /// (Re w_i): gamma_i / (2 w_i) is the strain rate at the point, and 2 eta / Re times it the
+    /// viscous stress it drives (23). An absolute tolerance then means the same on any mesh
+    /// (gamma_i alone shrinks with the point's weight: small elements were barely constrained)
+    /// and at any Re (the velocity of a flow scales with Re: slow flows passed at the start).
+    /// eta_i is the mean of eta over the point's triangle (P1d) or the triangles at its node (P1).
+    void
+    Problem::set_residual_scale(const std::vector<double> &eta)
+    {
+      const unsigned int                   nq = quadrature.size();
+      std::vector<double>                  eta_sum(n_points, 0.), count(n_points, 0.);
+      std::vector<types::global_dof_index> sdofs(fe_s.n_dofs_per_cell());
+      for (const auto &cell : dof_s.active_cell_iterators())
+        {
+          double mean = 0.;
+          for (unsigned int q = 0; q < nq; ++q)
+            mean += eta[cell->active_cell_index() * nq + q] / nq;
+          cell->get_dof_indices(sdofs);
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              const std::size_t i = p1d ? cell->active_cell_index() * 3 + k : sdofs[k];
+              eta_sum[i] += mean;
+              count[i] += 1.;
+            }
+        }
+      data.gamma_scale.resize(n_points);
+      for (std::size_t i = 0; i < n_points; ++i)
+        data.gamma_scale[i] = eta_sum[i] / count[i] / (prm.rheology.Re * point_weight[i]);
+    }
+
     void
     Problem::make_mesh()
     {
@@ -851,6 +883,7 @@ namespace granflow::dp
       for (;;)
         {
           assemble_velocity_operator(eta);
+          set_residual_scale(eta);
           // Nothing solved yet: a stop request ends the run here, before the factorisation.
           if (viscosity_iterations == 0 && interrupt::requested())
             throw Interrupted(std::string("stopped by ") + interrupt::signal_name() +
@@ -984,27 +1017,29 @@ namespace granflow::dp
           div_u[i]    = std::sqrt(2. * dim) * g[0] / w;
           max_D0      = std::max(max_D0, D0_norm[i]);
           // Where the solver's residual is largest (the rheology is violated by this much).
-          const SymVector lv{{l[0], l[1], l[2]}}, gv{{g[0], g[1], g[2]}};
+          const double    c = data.gamma_scale[i];
+          const SymVector lv{{l[0], l[1], l[2]}}, gv{{c * g[0], c * g[1], c * g[2]}};
           residual[i] = rheology::norm(
             prm.solver.residual == "alart-curnier" || prm.rheology.Bi > 0. ?
               rheology::f_AC(lv, gv, prm.rheology.mu, prm.rheology.Bi) :
               rheology::f_FB(lv, gv, prm.rheology.mu));
           max_div     = std::max(max_div, div_u[i]);
         }
-      // Zones, judged on the scaled strain rate gamma the solver's residual measures: rigid where
-      // ||gamma_T|| is zero to the solver tolerance (in a rigid zone the Alart-Curnier residual is
-      // exactly -gamma_T), dilating where gamma_N exceeds it, flowing otherwise.
-      // gamma is the strain rate times twice the point's weight (about a third of a triangle's
-      // area with P1d), so in |D0| this threshold is 10 tol / (2 w_i): it grows as the mesh is
-      // refined at a fixed tolerance, and summary.json reports its range.
+      // Zones, judged on the scaled strain rate c_i gamma_i the solver's residual measures (the
+      // viscous stress 2/Re D): rigid where its tangential part is zero to the solver tolerance
+      // (in a rigid zone the Alart-Curnier residual is exactly -gamma_T), dilating where its
+      // normal part exceeds it, flowing otherwise. In |D0| this threshold is 10 tol Re / 2 at
+      // every point; summary.json reports it.
       const double threshold = 10. * prm.solver.tolerance;
       std::size_t  n_rigid = 0, n_flowing = 0, n_dilating = 0;
       double       rigid_D0_min = std::numeric_limits<double>::infinity(), rigid_D0_max = 0.;
       for (std::size_t i = 0; i < n_points; ++i)
         {
-          rigid_D0_min    = std::min(rigid_D0_min, threshold / (2. * point_weight[i]));
-          rigid_D0_max    = std::max(rigid_D0_max, threshold / (2. * point_weight[i]));
-          const double *g = &solution.gamma[i * s_d];
+          const double c    = data.gamma_scale[i];
+          rigid_D0_min      = std::min(rigid_D0_min, threshold / (2. * point_weight[i] * c));
+          rigid_D0_max      = std::max(rigid_D0_max, threshold / (2. * point_weight[i] * c));
+          const double g[3] = {c * solution.gamma[i * s_d], c * solution.gamma[i * s_d + 1],
+                               c * solution.gamma[i * s_d + 2]};
           if (g[0] > threshold)
             zone[i] = 2, ++n_dilating;
           else if (std::hypot(g[1], g[2]) <= threshold)
@@ -1154,8 +1189,10 @@ namespace granflow::dp
               for (std::size_t i = 0; i < n_points; ++i)
                 if (std::abs(point_location[i][1]) < Bi - 2. * h)
                   {
-                    plug_gamma_T = std::max(plug_gamma_T, std::hypot(solution.gamma[i * s_d + 1],
-                                                                     solution.gamma[i * s_d + 2]));
+                    plug_gamma_T =
+                        std::max(plug_gamma_T,
+                                 data.gamma_scale[i] * std::hypot(solution.gamma[i * s_d + 1],
+                                                                  solution.gamma[i * s_d + 2]));
                     plug_D0      = std::max(plug_D0, D0_norm[i]);
                     ++plug_points;
                   }
@@ -1295,10 +1332,11 @@ namespace granflow::dp
           // The flow runs along +x or -x, as u_x does through the inflow boundary (whichever
           // end of the channel that is, and whichever way through it): the wake is behind the
           // cylinder along the flow. A jammed channel has no direction and no dynamic pressure to
-          // scale C_D by: |U_inf| below 1e-3 sqrt(g L), as in scripts/cylinder_drag_sweep.sh (the
-          // jammed channels of the sweep creep at 3e-7 to 3e-5, the solver's accuracy in u; the
-          // slowest flowing one has 0.43).
-          const bool   jammed = !prm.output.inflow_boundary.empty() && std::abs(U_inf) < 1e-3;
+          // scale C_D by: |U_inf| below 1e-5 Re sqrt(g L) (velocities scale with Re, (23)); at the
+          // sweep's Re = 100 that is 1e-3, as in scripts/cylinder_drag_sweep.sh (its jammed
+          // channels creep at the solver's accuracy in u, its slowest flowing one has 0.43).
+          const bool jammed =
+              !prm.output.inflow_boundary.empty() && std::abs(U_inf) < 1e-5 * prm.rheology.Re;
           const double along  = inflow_u_x < 0. && !jammed ? -1. : 1.;
           // The wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
           // divergence; the pressure peak on the centreline upstream (the arch) is located.
