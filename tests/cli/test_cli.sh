@@ -83,6 +83,19 @@ if grep -q '"jammed": true' jammed/summary.json && grep -q '"drag_coefficient": 
   pass "jammed channel has no C_D"; else fail "jammed channel has no C_D"; fi
 check silo-interior-point 0 "Results in silo" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
   --output silo --quiet --set "Output/Write vtu=false"
+if grep -q '"warnings": \[\]' silo/summary.json; then pass "silo: no warnings"; else fail "silo: no warnings"; fi
+# What a user may not have meant is said: an outlet narrower than the mesh size (one mesh edge),
+# where the flow jams on the mesh; a boundary left out of every condition (traction-free).
+check silo-outlet-one-edge 0 "boundary 'outlet' is 1 mesh edge" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" --output sliver --set "Output/Write vtu=false" \
+  --set "Geometry/Aperture=0.05" --set "Geometry/Outlet extension=0.3"
+if grep -q "boundary 'outlet' is 1 mesh edge" sliver/summary.json; then pass "sliver outlet warning in summary";
+else fail "sliver outlet warning in summary"; fi
+check forgotten-boundary-is-traction-free 0 "no condition on 'bottom'" "$GRANFLOW" run "$case_file" \
+  --output forgotten --set "Boundary conditions/No-slip=top" --set "Output/Reference=none" \
+  --set "Output/Write vtu=false"
+if /usr/bin/python3 -c "import json,sys; sys.exit(json.load(open('forgotten/summary.json'))['traction_free_boundaries'] != ['bottom'])"
+then pass "traction-free boundaries in summary"; else fail "traction-free boundaries in summary"; fi
 
 # Bad input: one message naming the file and the entry, exit 2, nothing already written lost.
 mkdir -p keep && echo "earlier result" >keep/summary.json

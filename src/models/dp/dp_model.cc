@@ -171,6 +171,15 @@ namespace granflow::dp
       solvers::ConeProblemData data;
       solvers::ConeSolution    solution;
       Vector<double>           u; // all velocity dofs
+      std::vector<std::string> warnings;      // for summary.json
+      std::vector<std::string> traction_free; // named boundaries with no condition
+      /// Logs "dp: warning: `text`" and keeps it for summary.json's "warnings".
+      void
+      warn(const std::string &text)
+      {
+        log.print("dp: warning: " + text + "\n");
+        warnings.push_back(text);
+      }
       nlohmann::json           timings = nlohmann::json::object();
       nlohmann::json           solver_json;
     };
@@ -775,6 +784,40 @@ namespace granflow::dp
         << " dofs (" << n_free << " free); stress " << prm.solver.stress_element << ": " << n_points
         << " constraint points\n";
       log.print(s.str());
+
+      // What a user may not have meant: a named boundary in no condition is traction-free (the
+      // material leaves through a forgotten floor), and a boundary of one mesh edge is not
+      // resolved (a silo outlet narrower than the mesh size jams on the mesh, not on the
+      // rheology).
+      std::map<types::boundary_id, std::size_t> edges;
+      for (const auto &face : mesh.triangulation.active_face_iterators())
+        if (face->at_boundary())
+          ++edges[face->boundary_id()];
+      std::set<types::boundary_id> conditioned;
+      for (const auto &vb : velocity_boundaries)
+        conditioned.insert(vb.id);
+      for (const auto &[name, p] : parse_named_values(bc.external_pressure, prm.case_file,
+                                                      "Boundary conditions/External pressure"))
+        conditioned.insert(mesh.id(name, prm.case_file));
+      for (const std::string &name : split_list(bc.analytic_traction))
+        conditioned.insert(mesh.id(name, prm.case_file));
+      std::string free;
+      for (const auto &[name, id] : mesh.boundary_ids)
+        {
+          if (!conditioned.count(id))
+            {
+              free += (free.empty() ? "'" : ", '") + name + "'";
+              traction_free.push_back(name);
+            }
+          if (edges[id] <= 1)
+            warn("boundary '" + name + "' is " + std::to_string(edges[id]) +
+                 " mesh edge: the mesh does not resolve it; a flow through or along it (an outlet, "
+                 "a jam) is "
+                 "the mesh's, not the model's: refine Geometry/Mesh size");
+        }
+      if (!free.empty())
+        log.print("dp: note: no condition on " + free +
+                  ": traction-free (the material may leave or enter there)\n");
     }
 
     solvers::ConeSolverStats
@@ -968,7 +1011,9 @@ namespace granflow::dp
               << ") after " << stats.outer_iterations
               << " iterations: its steps fell below 1e-4 or 50 iterations gained less than 10 % "
                  "(docs/solvers.md), which higher limits do not change; a looser Solver/Tolerance, "
-                 "another mesh or Solver/Method = fixed point may. ";
+                 "another mesh or Solver/Method = fixed point may (the problem is in units of L "
+                 "and "
+                 "rho g L: a mesh drawn in other units, mm say, is one the solvers cannot scale). ";
           else if (stats.timed_out)
             s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds
               << " at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
@@ -1101,6 +1146,8 @@ namespace granflow::dp
         }
 
       nlohmann::json &S = results.summary;
+      S["warnings"]                 = warnings;
+      S["traction_free_boundaries"] = traction_free;
       S["case"]         = prm.name;
       S["case_file"]    = prm.case_file;
       S["model"]        = "dp";
