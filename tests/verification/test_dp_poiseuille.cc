@@ -4,6 +4,7 @@
 #include "core/output.h"
 #include "models/dp/dp_model.h"
 #include "support/csv.h"
+#include "support/dp_run.h"
 
 #include <gtest/gtest.h>
 
@@ -14,7 +15,6 @@
 
 namespace
 {
-  const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/daviet2016/bingham_poiseuille.prm";
 
   double
   poiseuille(double y, double Bi, double Re)
@@ -34,15 +34,7 @@ namespace
   nlohmann::json
   run_case(const std::vector<granflow::Override> &overrides, const std::string &name)
   {
-    const auto parameters = granflow::dp::load_parameters(case_file, overrides);
-    const std::string dir = ::testing::TempDir() + "/granflow_" + name;
-    std::filesystem::remove_all(dir);
-    granflow::OutputDirectory out(dir);
-    granflow::Logger          log(out.file("log.txt"), false);
-    auto summary = granflow::dp::run(parameters, out, log).summary;
-    out.commit();
-    summary["dir"] = dir;
-    return summary;
+    return granflow::test::run_dp("bingham_poiseuille.prm", overrides, name);
   }
 } // namespace
 

@@ -84,6 +84,9 @@ namespace granflow::dp
       make_mesh();
       void
       setup();
+      template <typename F>
+      void
+      for_each_boundary_node(const F &f) const;
       void
       constrain_directions();
       void
@@ -184,6 +187,43 @@ namespace granflow::dp
       nlohmann::json           solver_json;
     };
 
+    /// Calls f(b, n, x, y, w) for every node of every boundary face: the face's boundary id b and
+    /// outward unit normal n (faces are straight), the node's x- and y-dofs, and the integral w of
+    /// its shape function over the face. (FiniteElement::has_support_on_face() is true for every
+    /// dof of FE_SimplexP in 9.4, and the shape functions of other nodes are only about 1e-17 on
+    /// the face, not 0: a face's nodes are its own dofs.)
+    template <typename F>
+    void
+    Problem::for_each_boundary_node(const F &f) const
+    {
+      const QGauss<dim - 1>                face_quadrature(3);
+      FEFaceValues<dim>                    fvf(mapping, fe_u, face_quadrature,
+                                               update_values | update_normal_vectors | update_JxW_values);
+      std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell()),
+          face_dofs(fe_u.n_dofs_per_face());
+      for (const auto &cell : dof_u.active_cell_iterators())
+        for (const unsigned int face : cell->face_indices())
+          {
+            if (!cell->face(face)->at_boundary())
+              continue;
+            fvf.reinit(cell, face);
+            cell->get_dof_indices(dofs);
+            cell->face(face)->get_dof_indices(face_dofs);
+            for (unsigned int k = 0; k < fe_u.n_dofs_per_cell(); ++k)
+              {
+                const auto [component, index] = fe_u.system_to_component_index(k);
+                if (component != 0 ||
+                    std::find(face_dofs.begin(), face_dofs.end(), dofs[k]) == face_dofs.end())
+                  continue;
+                double w = 0.;
+                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                  w += fvf.shape_value(k, q) * fvf.JxW(q);
+                f(cell->face(face)->boundary_id(), fvf.normal_vector(0), dofs[k],
+                  dofs[fe_u.component_to_system_index(1, index)], w);
+              }
+          }
+    }
+
     /// Zero normal and Zero tangential velocity: at each node of these faces, u . d = 0 along
     /// one direction d: the faces' normal (free slip) or tangent (flow normal to the boundary).
     /// Where faces meet at an angle, d is sum_f w_f d_f normalised, w_f the integral of the
@@ -220,44 +260,19 @@ namespace granflow::dp
         std::vector<Tensor<1, dim>> d;   // d_f of each face
       };
       std::map<types::global_dof_index, Node> nodes; // by x-dof
-      const QGauss<dim - 1>                   face_quadrature(3);
-      FEFaceValues<dim>                       fvf(mapping, fe_u, face_quadrature,
-                                                  update_values | update_normal_vectors | update_JxW_values);
-      std::vector<types::global_dof_index>    dofs(fe_u.n_dofs_per_cell()),
-          face_dofs(fe_u.n_dofs_per_face());
-      // (FiniteElement::has_support_on_face() is true for every dof of FE_SimplexP in 9.4, and
-      // the shape functions of other nodes are only about 1e-17 on the face, not 0.)
-      const auto on_face = [&](const types::global_dof_index i) {
-        return std::find(face_dofs.begin(), face_dofs.end(), i) != face_dofs.end();
-      };
-      for (const auto &cell : dof_u.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          {
-            if (!cell->face(f)->at_boundary())
-              continue;
-            const auto direction = direction_of.find(cell->face(f)->boundary_id());
-            if (direction == direction_of.end())
-              continue;
-            fvf.reinit(cell, f);
-            cell->get_dof_indices(dofs);
-            cell->face(f)->get_dof_indices(face_dofs);
-            const Tensor<1, dim> n = fvf.normal_vector(0); // straight faces (linear mapping)
-            const Tensor<1, dim> d =
-                direction->second == Direction::normal ? n : Tensor<1, dim>({-n[1], n[0]});
-            for (unsigned int k = 0; k < fe_u.n_dofs_per_cell(); ++k)
-              {
-                const auto [component, index] = fe_u.system_to_component_index(k);
-                if (component != 0 || !on_face(dofs[k]))
-                  continue;
-                double w = 0.;
-                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                  w += fvf.shape_value(k, q) * fvf.JxW(q);
-                Node &node = nodes[dofs[k]];
-                node.y     = dofs[fe_u.component_to_system_index(1, index)];
-                node.sum += (node.d.empty() || node.d.front() * d >= 0. ? w : -w) * d;
-                node.d.push_back(d);
-              }
-          }
+      for_each_boundary_node([&](const types::boundary_id b, const Tensor<1, dim> &n,
+                                 const types::global_dof_index x, const types::global_dof_index y,
+                                 const double w) {
+        const auto direction = direction_of.find(b);
+        if (direction == direction_of.end())
+          return;
+        const Tensor<1, dim> d =
+            direction->second == Direction::normal ? n : Tensor<1, dim>({-n[1], n[0]});
+        Node &node = nodes[x];
+        node.y     = y;
+        node.sum += (node.d.empty() || node.d.front() * d >= 0. ? w : -w) * d;
+        node.d.push_back(d);
+      });
 
       const double cos_corner = std::cos(numbers::PI / 4.);
       for (const auto &[x, node] : nodes)
@@ -1466,55 +1481,31 @@ namespace granflow::dp
         SymmetricTensor<2, dim> on_id, on_all; // W_id, M
       };
       std::map<types::global_dof_index, Node> nodes; // by x-dof
-      {
-        const QGauss<dim - 1> face_quadrature(3);
-        FEFaceValues<dim>                    fvf(mapping, fe_u, face_quadrature,
-                                                 update_values | update_normal_vectors | update_JxW_values);
-        std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell()),
-            face_dofs(fe_u.n_dofs_per_face());
-        for (const auto &cell : dof_u.active_cell_iterators())
-          for (const unsigned int f : cell->face_indices())
+      for_each_boundary_node([&](const types::boundary_id b, const Tensor<1, dim> &n,
+                                 const types::global_dof_index x, const types::global_dof_index y,
+                                 const double w) {
+        SymmetricTensor<2, dim> P;
+        for (const auto &vb : velocity_boundaries)
+          if (vb.id == b)
             {
-              if (!cell->face(f)->at_boundary())
-                continue;
-              const types::boundary_id b = cell->face(f)->boundary_id();
-              fvf.reinit(cell, f);
-              const Tensor<1, dim>    n = fvf.normal_vector(0);
-              SymmetricTensor<2, dim> P;
-              for (const auto &vb : velocity_boundaries)
-                if (vb.id == b)
-                  {
-                    for (unsigned int c = 0; c < dim; ++c)
-                      P[c][c] += vb.mask[c] ? 1. : 0.;
-                    if (vb.direction != VelocityBoundary::Direction::none)
-                      {
-                        const Tensor<1, dim> d = vb.direction == VelocityBoundary::Direction::normal
-                                                     ? n
-                                                     : Tensor<1, dim>({-n[1], n[0]});
-                        P += symmetrize(outer_product(d, d));
-                      }
-                  }
-              if (P.norm() == 0.)
-                continue;
-              cell->get_dof_indices(dofs);
-              cell->face(f)->get_dof_indices(face_dofs);
-              for (unsigned int k = 0; k < fe_u.n_dofs_per_cell(); ++k)
+              for (unsigned int c = 0; c < dim; ++c)
+                P[c][c] += vb.mask[c] ? 1. : 0.;
+              if (vb.direction != VelocityBoundary::Direction::none)
                 {
-                  const auto [component, index] = fe_u.system_to_component_index(k);
-                  if (component != 0 ||
-                      std::find(face_dofs.begin(), face_dofs.end(), dofs[k]) == face_dofs.end())
-                    continue;
-                  double w = 0.;
-                  for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                    w += fvf.shape_value(k, q) * fvf.JxW(q);
-                  Node &node = nodes[dofs[k]];
-                  node.y     = dofs[fe_u.component_to_system_index(1, index)];
-                  node.on_all += w * P;
-                  if (b == id)
-                    node.on_id += w * P;
+                  const Tensor<1, dim> d = vb.direction == VelocityBoundary::Direction::normal
+                                               ? n
+                                               : Tensor<1, dim>({-n[1], n[0]});
+                  P += symmetrize(outer_product(d, d));
                 }
             }
-      }
+        if (P.norm() == 0.)
+          return;
+        Node &node = nodes[x];
+        node.y     = y;
+        node.on_all += w * P;
+        if (b == id)
+          node.on_id += w * P;
+      });
       // (A u - l - H^T lambda)_i: zero to the solver's tolerance where i is free
       const auto reaction = [&](const types::global_dof_index i) {
         if (!reaction_dof[i])
