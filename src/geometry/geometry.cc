@@ -686,6 +686,38 @@ namespace granflow::geometry
                          "'" + msh_file +
                              "' is not a Gmsh mesh file (it does not begin with $MeshFormat): "
                              "expected a .msh file (in Gmsh: File > Export, or gmsh -2 file.geo)");
+      // Two physical groups of one dimension with one name: Gmsh keeps the name of only one of
+      // them when it reads an MSH 2 file, and the other's edges would be reported as unnamed.
+      // The $PhysicalNames section (text in every version) tells.
+      std::string line;
+      while (std::getline(in, line) && line.rfind("$PhysicalNames", 0) != 0)
+        if (line.rfind("$Nodes", 0) == 0)
+          break;
+      if (line.rfind("$PhysicalNames", 0) == 0)
+        {
+          std::size_t count = 0;
+          in >> count;
+          std::map<std::pair<int, std::string>, int> tag_of;
+          for (std::size_t k = 0; k < count && in; ++k)
+            {
+              int         dim = 0, tag = 0;
+              std::string name;
+              in >> dim >> tag;
+              std::getline(in, name);
+              const auto a = name.find('"'), b = name.rfind('"');
+              name = a != std::string::npos && b > a ? name.substr(a + 1, b - a - 1) : name;
+              if (const auto [it, fresh] = tag_of.emplace(std::make_pair(dim, name), tag);
+                  !fresh && it->second != tag)
+                throw InputError(source, entry::mesh_file,
+                                 "mesh file '" + msh_file + "' has two physical " +
+                                     (dim == 1   ? "curves"
+                                      : dim == 2 ? "surfaces"
+                                                 : "groups") +
+                                     " named '" + name + "' (tags " + std::to_string(it->second) +
+                                     " and " + std::to_string(tag) +
+                                     "): expected one physical group per name");
+            }
+        }
     }
 
     with_gmsh(source, entry::mesh_file, "reading the mesh file '" + msh_file + "'", [&] {

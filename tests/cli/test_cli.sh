@@ -174,6 +174,11 @@ bad rigid-motion-of-a-loose-piece "no velocity condition applies on the part of 
   --set "Geometry/Shape=file" --set "Geometry/Mesh file=two_pieces.msh" --set "Boundary conditions/No-slip=wall" \
   --set "Boundary conditions/Zero y-velocity=" --set "Output/Reference=none" --set "Output/Profile start=0, 0.5" \
   --set "Output/Profile end=1, 0.5"
+# Two physical curves with one name: Gmsh keeps one name when it reads MSH 2 (the other's edges
+# were reported as on no named curve).
+sed -e 's/1 2 "free"/1 2 "wall"/' two_pieces.msh >same_name.msh
+bad physical-name-twice "has two physical curves named 'wall' (tags 1 and 2)" \
+  --set "Geometry/Shape=file" --set "Geometry/Mesh file=same_name.msh"
 bad external-pressure-twice "names boundary 'inlet' a second time" --set "Boundary conditions/External pressure=inlet: 1, inlet: 3"
 bad external-pressure-on-no-slip "a No-slip boundary" --set "Boundary conditions/External pressure=top: 1"
 bad drag-boundary-without-velocity-condition "'outlet' has no velocity condition" \
