@@ -19,6 +19,7 @@
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/manifold_lib.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
@@ -833,6 +834,17 @@ namespace granflow::dp
       if (!free.empty())
         log.print("dp: note: no condition on " + free +
                   ": traction-free (the material may leave or enter there)\n");
+      // Only the direction of gravity enters (23): the body force is rho g, in units of rho g.
+      if (const Point<dim> g =
+              parse_point(prm.gravity_direction, prm.case_file, "Gravity direction");
+          std::abs(g.norm() - 1.) > 1e-12)
+        {
+          std::ostringstream note;
+          note << "dp: note: Gravity direction (" << g[0] << ", " << g[1] << ") has length "
+               << g.norm() << "; only its direction (" << g[0] / g.norm() << ", " << g[1] / g.norm()
+               << ") is used: the body force is rho g, the unit of (23)\n";
+          log.print(note.str());
+        }
     }
 
     solvers::ConeSolverStats
@@ -1026,9 +1038,7 @@ namespace granflow::dp
               << ") after " << stats.outer_iterations
               << " iterations: its steps fell below 1e-4 or 50 iterations gained less than 10 % "
                  "(docs/solvers.md), which higher limits do not change; a looser Solver/Tolerance, "
-                 "another mesh or Solver/Method = fixed point may (the problem is in units of L "
-                 "and "
-                 "rho g L: a mesh drawn in other units, mm say, is one the solvers cannot scale). ";
+                 "another mesh or Solver/Method = fixed point may. ";
           else if (stats.timed_out)
             s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds
               << " at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
@@ -1038,6 +1048,12 @@ namespace granflow::dp
               << stats.residual << " after " << stats.outer_iterations << " iterations; raise "
               << (interior_point ? "Solver/Max outer iterations). "
                                  : "Solver/Max outer iterations or Max inner iterations). ");
+          // The problem is dimensionless (23): a mesh drawn in mm is a silo of 1000 L.
+          if (const double size = GridTools::diameter(mesh.triangulation);
+              !stats.interrupted && (size > 1e3 || size < 1e-3))
+            s << "The mesh is " << size
+              << " across: lengths are in units of L (23), and a mesh drawn in other units, mm "
+                 "say, makes a problem the solvers cannot scale. ";
           s << "The iterate of least residual was written to " << out.target();
           if (stats.interrupted)
             throw Interrupted(s.str(), interrupt::signal_number());
