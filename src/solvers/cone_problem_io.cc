@@ -92,6 +92,10 @@ namespace granflow::solvers
       read_vector(in, data.gamma_scale);
     if (!in)
       throw std::runtime_error("'" + file + "' is truncated");
+    if (!data.gamma_scale.empty() && data.gamma_scale.size() != data.mu.size())
+      throw std::runtime_error("'" + file + "' has " + std::to_string(data.gamma_scale.size()) +
+                               " residual scales for " + std::to_string(data.mu.size()) +
+                               " points");
     return data;
   }
 } // namespace granflow::solvers

@@ -7,6 +7,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <random>
 #include <sstream>
 
@@ -334,6 +337,7 @@ TEST(ConeProblemIO, DumpAndLoadRoundTrip)
   data.k          = {0.5, 0., -1.};
   data.mu         = {0.4};
   data.Bi         = {0.1};
+  data.gamma_scale       = {250.};
   const std::string file = ::testing::TempDir() + "/cone.bin";
   save_cone_problem(data, file);
   const ConeProblemData back = load_cone_problem(file);
@@ -343,6 +347,20 @@ TEST(ConeProblemIO, DumpAndLoadRoundTrip)
   EXPECT_EQ(back.k, data.k);
   EXPECT_EQ(back.mu, data.mu);
   EXPECT_EQ(back.Bi, data.Bi);
+  EXPECT_EQ(back.gamma_scale, data.gamma_scale);
+
+  // A dump from before session 12 ends after Bi: it loads, with no scale (all 1).
+  {
+    std::ifstream in(file, std::ios::binary);
+    std::string   bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream old(::testing::TempDir() + "/cone_old.bin", std::ios::binary);
+    old.write(bytes.data(), bytes.size() - 2 * sizeof(std::uint64_t)); // size 1, one double
+  }
+  EXPECT_TRUE(load_cone_problem(::testing::TempDir() + "/cone_old.bin").gamma_scale.empty());
+  // A scale per point or none: anything else is refused.
+  data.gamma_scale = {1., 2.};
+  save_cone_problem(data, file);
+  EXPECT_THROW(load_cone_problem(file), std::runtime_error);
 }
 
 TEST(ConeSolverNames, TheCaseFilesNamesParseAndOthersAreRejected)

@@ -259,6 +259,8 @@ namespace granflow::dp
         types::global_dof_index     y;
         Tensor<1, dim>              sum; // sum_f w_f d_f, signs aligned
         std::vector<Tensor<1, dim>> d;   // d_f of each face
+        std::vector<Tensor<1, dim>> n;   // the outward normal of each face
+        std::vector<Direction>      kind;
       };
       std::map<types::global_dof_index, Node> nodes; // by x-dof
       for_each_boundary_node([&](const types::boundary_id b, const Tensor<1, dim> &n,
@@ -273,6 +275,8 @@ namespace granflow::dp
         node.y     = y;
         node.sum += (node.d.empty() || node.d.front() * d >= 0. ? w : -w) * d;
         node.d.push_back(d);
+        node.n.push_back(n);
+        node.kind.push_back(direction->second);
       });
 
       const double cos_corner = std::cos(numbers::PI / 4.);
@@ -281,10 +285,17 @@ namespace granflow::dp
           const bool fixed_x = dirichlet.count(x), fixed_y = dirichlet.count(node.y);
           if (fixed_x && fixed_y)
             continue; // No-slip
-          bool corner = false;
-          for (const auto &a : node.d)
-            for (const auto &b : node.d)
-              corner = corner || std::abs(a * b) < cos_corner;
+          // Faces with the same condition may meet at a kink of up to 45 degrees (their outward
+          // normals within 45 degrees, signs included: the two walls of a narrow V are a
+          // corner). Faces with different conditions share a node only if they fix the same
+          // direction (a slip floor and the end of a channel normal to it), to 1 degree.
+          const double cos_same = std::cos(numbers::PI / 180.);
+          bool         corner   = false;
+          for (std::size_t a = 0; a < node.d.size(); ++a)
+            for (std::size_t b = 0; b < a; ++b)
+              corner = corner ||
+                       (node.kind[a] == node.kind[b] ? node.n[a] * node.n[b] < cos_corner
+                                                     : std::abs(node.d[a] * node.d[b]) < cos_same);
           Tensor<1, dim> d = node.sum / node.sum.norm();
           for (unsigned int c = 0; c < dim; ++c) // an axis stays an axis, to the last bit
             if (std::abs(d[c]) < 1e-14)
@@ -1480,6 +1491,9 @@ namespace granflow::dp
     /// which converges with the velocity; the trace lambda n of the P1d stress, whose vertex values
     /// oscillate, moved by 50 % under refinement of the cylinder channel.
     ///
+    /// Where the boundary leaves a direction free and carries an External pressure, that pressure
+    /// is added.
+    ///
     /// A node's reaction r acts along the directions its conditions fix. Where several boundaries
     /// meet (a corner), each takes its share: with P_f the projection onto the directions that
     /// face f's condition fixes (I for No-slip, e e^T for a fixed component e or a constrained
@@ -1544,11 +1558,30 @@ namespace granflow::dp
           SymmetricTensor<2, dim> M_plus;
           const auto              modes = eigenvectors(node.on_all);
           for (const auto &[value, vector] : modes)
-            if (value > 1e-12 * modes.front().first)
+            if (value > 1e-6 * modes.front().first) // walls meeting within 1e-3 rad: straight
               M_plus += symmetrize(outer_product(vector, vector)) / value;
           const Tensor<1, dim> r({reaction(x), reaction(node.y)});
           force -= node.on_id * (M_plus * r);
         }
+      // Along the directions the boundary leaves free there is no reaction, but an external
+      // pressure may act (Zero tangential velocity, or Zero x-velocity on a face y = const): its
+      // traction -p_ext n acts on the material, which pushes back with p_ext n.
+      for (const auto &[name, p_ext] :
+           parse_named_values(prm.boundaries.external_pressure, prm.case_file,
+                              "Boundary conditions/External pressure"))
+        if (mesh.id(name, prm.case_file) == id)
+          {
+            const QGauss<dim - 1> face_quadrature(1);
+            FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature,
+                                      update_normal_vectors | update_JxW_values);
+            for (const auto &cell : dof_u.active_cell_iterators())
+              for (const unsigned int f : cell->face_indices())
+                if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
+                  {
+                    fvf.reinit(cell, f);
+                    force += p_ext * fvf.normal_vector(0) * fvf.JxW(0);
+                  }
+          }
       return force;
     }
 
