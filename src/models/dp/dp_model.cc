@@ -145,8 +145,17 @@ namespace granflow::dp
           normal,
           tangent
         } direction = Direction::none;
+        /// The direction along which the velocity is zero on a face with outward normal n (none
+        /// for a component mask).
+        static Tensor<1, dim>
+        fixed_direction(const Direction kind, const Tensor<1, dim> &n)
+        {
+          return kind == Direction::normal ? n : Tensor<1, dim>({-n[1], n[0]});
+        }
       };
       std::vector<VelocityBoundary> velocity_boundaries;
+      /// Boundary conditions/External pressure, parsed once by setup(): (boundary, p_ext).
+      std::vector<std::pair<types::boundary_id, double>> external_pressures;
       /// The velocity dofs in terms of the unknowns w of the cone problem: u_i = c_i
       /// w_free_index[i] where free_index[i] >= 0, u_i = u_D otherwise. c_i = 1, except at a node
       /// with one constrained direction d (Zero normal or tangential velocity), whose two dofs
@@ -257,10 +266,9 @@ namespace granflow::dp
       struct Node
       {
         types::global_dof_index     y;
-        Tensor<1, dim>              sum; // sum_f w_f d_f, signs aligned
-        std::vector<Tensor<1, dim>> d;   // d_f of each face
-        std::vector<Tensor<1, dim>> n;   // the outward normal of each face
-        std::vector<Direction>      kind;
+        Tensor<1, dim>              sum;  // sum_f w_f d_f, signs aligned
+        std::vector<Tensor<1, dim>> n;    // the outward normal of each face
+        std::vector<Direction>      kind; // and its condition
       };
       std::map<types::global_dof_index, Node> nodes; // by x-dof
       for_each_boundary_node([&](const types::boundary_id b, const Tensor<1, dim> &n,
@@ -269,17 +277,17 @@ namespace granflow::dp
         const auto direction = direction_of.find(b);
         if (direction == direction_of.end())
           return;
-        const Tensor<1, dim> d =
-            direction->second == Direction::normal ? n : Tensor<1, dim>({-n[1], n[0]});
-        Node &node = nodes[x];
-        node.y     = y;
-        node.sum += (node.d.empty() || node.d.front() * d >= 0. ? w : -w) * d;
-        node.d.push_back(d);
+        const Tensor<1, dim> d    = VelocityBoundary::fixed_direction(direction->second, n);
+        Node                &node = nodes[x];
+        node.y                    = y;
+        const bool agrees =
+            node.n.empty() || VelocityBoundary::fixed_direction(node.kind[0], node.n[0]) * d >= 0.;
+        node.sum += (agrees ? w : -w) * d;
         node.n.push_back(n);
         node.kind.push_back(direction->second);
       });
 
-      const double cos_corner = std::cos(numbers::PI / 4.);
+      const double cos_corner = std::cos(numbers::PI / 4.), cos_same = std::cos(numbers::PI / 180.);
       for (const auto &[x, node] : nodes)
         {
           const bool fixed_x = dirichlet.count(x), fixed_y = dirichlet.count(node.y);
@@ -289,13 +297,15 @@ namespace granflow::dp
           // normals within 45 degrees, signs included: the two walls of a narrow V are a
           // corner). Faces with different conditions share a node only if they fix the same
           // direction (a slip floor and the end of a channel normal to it), to 1 degree.
-          const double cos_same = std::cos(numbers::PI / 180.);
-          bool         corner   = false;
-          for (std::size_t a = 0; a < node.d.size(); ++a)
+          const auto d_of = [&](const std::size_t f) {
+            return VelocityBoundary::fixed_direction(node.kind[f], node.n[f]);
+          };
+          bool corner = false;
+          for (std::size_t a = 0; a < node.n.size(); ++a)
             for (std::size_t b = 0; b < a; ++b)
-              corner = corner ||
-                       (node.kind[a] == node.kind[b] ? node.n[a] * node.n[b] < cos_corner
-                                                     : std::abs(node.d[a] * node.d[b]) < cos_same);
+              corner =
+                  corner || (node.kind[a] == node.kind[b] ? node.n[a] * node.n[b] < cos_corner
+                                                          : std::abs(d_of(a) * d_of(b)) < cos_same);
           Tensor<1, dim> d = node.sum / node.sum.norm();
           for (unsigned int c = 0; c < dim; ++c) // an axis stays an axis, to the last bit
             if (std::abs(d[c]) < 1e-14)
@@ -465,12 +475,12 @@ namespace granflow::dp
         }
 
       // l += int_{boundary} t(x, n) . v for a traction t on the named boundary.
-      const auto add_traction = [&](const std::string &name, const unsigned int n_q, const auto &t) {
-        const QGauss<dim - 1>    face_quadrature(n_q);
-        FEFaceValues<dim>        fvf(mapping, fe_u, face_quadrature,
-                              update_values | update_normal_vectors | update_JxW_values |
-                                update_quadrature_points);
-        const types::boundary_id id = mesh.id(name, prm.case_file);
+      const auto add_traction = [&](const types::boundary_id id, const unsigned int n_q,
+                                    const auto &t) {
+        const QGauss<dim - 1> face_quadrature(n_q);
+        FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature,
+                                  update_values | update_normal_vectors | update_JxW_values |
+                                      update_quadrature_points);
         for (const auto &cell : dof_u.active_cell_iterators())
           for (const unsigned int f : cell->face_indices())
             if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
@@ -487,10 +497,8 @@ namespace granflow::dp
       };
 
       // Neumann boundaries (21): traction sigma_ext n = -p_ext n.
-      for (const auto &[name, p_ext] : parse_named_values(prm.boundaries.external_pressure,
-                                                          prm.case_file,
-                                                          "Boundary conditions/External pressure"))
-        add_traction(name, 3, [p_ext = p_ext](const Point<dim> &, const Tensor<1, dim> &normal) {
+      for (const auto &[id, p_ext] : external_pressures)
+        add_traction(id, 3, [p_ext = p_ext](const Point<dim> &, const Tensor<1, dim> &normal) {
           return -p_ext * normal;
         });
 
@@ -500,12 +508,13 @@ namespace granflow::dp
       // part eta u' = (sin a - mu cos a)(1 - y) plus the saturated friction mu p).
       const double alpha = std::atan2(e_g[0], -e_g[1]);
       for (const std::string &name : split_list(prm.boundaries.analytic_traction))
-        add_traction(name, 4, [alpha](const Point<dim> &x, const Tensor<1, dim> &normal) {
-          Tensor<2, dim> sigma;
-          sigma[0][0] = sigma[1][1] = -(1. - x[1]) * std::cos(alpha);
-          sigma[0][1] = sigma[1][0] = (1. - x[1]) * std::sin(alpha);
-          return sigma * normal;
-        });
+        add_traction(mesh.id(name, prm.case_file), 4,
+                     [alpha](const Point<dim> &x, const Tensor<1, dim> &normal) {
+                       Tensor<2, dim> sigma;
+                       sigma[0][0] = sigma[1][1] = -(1. - x[1]) * std::cos(alpha);
+                       sigma[0][1] = sigma[1][0] = (1. - x[1]) * std::sin(alpha);
+                       return sigma * normal;
+                     });
 
       data.A        = solvers::CsrMatrix();
       data.A.n_rows = data.A.n_cols = n_free;
@@ -739,8 +748,9 @@ namespace granflow::dp
       for (const auto &[name, p] :
            parse_named_values(bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
         {
-          const auto condition = condition_of.find(
-              mesh.id(name, prm.case_file, "Boundary conditions/External pressure"));
+          external_pressures.emplace_back(
+              mesh.id(name, prm.case_file, "Boundary conditions/External pressure"), p);
+          const auto condition = condition_of.find(external_pressures.back().first);
           // A pressure does work only through the normal velocity (free on a Zero x-velocity
           // boundary y = const, for example).
           if (condition != condition_of.end() &&
@@ -823,9 +833,8 @@ namespace granflow::dp
       std::set<types::boundary_id> conditioned;
       for (const auto &vb : velocity_boundaries)
         conditioned.insert(vb.id);
-      for (const auto &[name, p] : parse_named_values(bc.external_pressure, prm.case_file,
-                                                      "Boundary conditions/External pressure"))
-        conditioned.insert(mesh.id(name, prm.case_file));
+      for (const auto &[id, p] : external_pressures)
+        conditioned.insert(id);
       for (const std::string &name : split_list(bc.analytic_traction))
         conditioned.insert(mesh.id(name, prm.case_file));
       std::string free;
@@ -1321,6 +1330,7 @@ namespace granflow::dp
         }
       out.write_csv("profiles/velocity.csv", header, columns);
 
+      std::map<types::boundary_id, postprocess::BoundaryFlux> flux_of;
       // Volume flux out through each named boundary (per unit depth; negative where material
       // enters): a silo's discharge rate is its outlet's. Their sum is int div u, the rate at
       // which the material dilates (div u >= 0 where it loses contact, Daviet 2.2).
@@ -1329,9 +1339,9 @@ namespace granflow::dp
         double         total   = 0.;
         for (const auto &[name, id] : mesh.boundary_ids)
           {
-            const double f = postprocess::boundary_normal_flux(mapping, dof_u, u, id).flux;
-            outflow[name]  = f;
-            total += f;
+            flux_of[id]   = postprocess::boundary_normal_flux(mapping, dof_u, u, id);
+            outflow[name] = flux_of[id].flux;
+            total += flux_of[id].flux;
           }
         S["volume_outflow"]       = outflow;
         S["volume_outflow_total"] = total;
@@ -1353,8 +1363,7 @@ namespace granflow::dp
       double U_inf = 0., inflow_u_x = 0.;
       if (!prm.output.inflow_boundary.empty())
         {
-          const auto inflow = postprocess::boundary_normal_flux(
-              mapping, dof_u, u, mesh.id(prm.output.inflow_boundary, prm.case_file));
+          const auto &inflow = flux_of.at(mesh.id(prm.output.inflow_boundary, prm.case_file));
           U_inf           = -inflow.flux / inflow.length;
           inflow_u_x      = inflow.mean_u_x;
           S["U_infinity"] = U_inf;
@@ -1522,9 +1531,7 @@ namespace granflow::dp
                 P[c][c] += vb.mask[c] ? 1. : 0.;
               if (vb.direction != VelocityBoundary::Direction::none)
                 {
-                  const Tensor<1, dim> d = vb.direction == VelocityBoundary::Direction::normal
-                                               ? n
-                                               : Tensor<1, dim>({-n[1], n[0]});
+                  const Tensor<1, dim> d = VelocityBoundary::fixed_direction(vb.direction, n);
                   P += symmetrize(outer_product(d, d));
                 }
             }
@@ -1566,10 +1573,8 @@ namespace granflow::dp
       // Along the directions the boundary leaves free there is no reaction, but an external
       // pressure may act (Zero tangential velocity, or Zero x-velocity on a face y = const): its
       // traction -p_ext n acts on the material, which pushes back with p_ext n.
-      for (const auto &[name, p_ext] :
-           parse_named_values(prm.boundaries.external_pressure, prm.case_file,
-                              "Boundary conditions/External pressure"))
-        if (mesh.id(name, prm.case_file) == id)
+      for (const auto &[pressed, p_ext] : external_pressures)
+        if (pressed == id)
           {
             const QGauss<dim - 1> face_quadrature(1);
             FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature,
