@@ -24,6 +24,15 @@ check bad-method 2 "unknown method 'sgp': expected pg, apgd, spg or ip" "$REPLAY
 check missing-file 2 "cannot read cone problem 'nope.bin'" "$REPLAY" nope.bin
 echo "not a dump" >junk.bin
 check not-a-dump 2 "is not a granflow cone problem dump" "$REPLAY" junk.bin
+# The residual scales, one per point, close a dump: a count that does not match is refused.
+/usr/bin/python3 - bagnold.bin scales.bin <<'PY'
+import struct, sys
+data = open(sys.argv[1], 'rb').read()
+# The last vector is the scales: its length n (uint64) stands before its n doubles.
+n = next(n for n in range(1, len(data) // 8) if struct.unpack('<Q', data[-8 * (n + 1):-8 * n])[0] == n)
+open(sys.argv[2], 'wb').write(data[:-8 * (n + 1)] + struct.pack('<Qd', 1, 1.0))
+PY
+check scales-do-not-match 2 "has 1 residual scales for" "$REPLAY" scales.bin
 check bad-max-seconds 2 "GRANFLOW_REPLAY_MAX_SECONDS='soon' is not a number of seconds" \
   env GRANFLOW_REPLAY_MAX_SECONDS=soon "$REPLAY" bagnold.bin
 
