@@ -276,6 +276,9 @@ namespace granflow::solvers
       {}
 
       unsigned int max_iterations; // per call; raised by the outer loop when it stalls
+      /// options.max_seconds after the start of the solve: an inner solve ends there, and the
+      /// outer loop, which sees the time limit passed, ends with it.
+      Clock::time_point deadline = Clock::time_point::max();
 
       /// Minimises from the warm start in `state`; returns the iteration count.
       unsigned int
@@ -301,11 +304,12 @@ namespace granflow::solvers
       double last_residual = 0.; // natural-map residual of the last inner solve
 
     private:
-      /// The outer loop sees the same request at its next check and ends there.
+      /// A stop request or the time limit; the outer loop sees either at its next check and ends
+      /// there.
       bool
       stop_requested() const
       {
-        return options.stop_requested && options.stop_requested();
+        return (options.stop_requested && options.stop_requested()) || Clock::now() >= deadline;
       }
 
       /// d = Pi_K(x - step g) - x
@@ -471,6 +475,9 @@ namespace granflow::solvers
       Vector     best_lambda, best_gamma; // the iterate of least residual so far
       detail::SolveMonitor monitor(options, stats);
       const auto t1 = Clock::now();
+      if (options.max_seconds > 0. && options.max_seconds < 1e9) // (beyond: no limit, no overflow)
+        inner.deadline = t1 + std::chrono::duration_cast<Clock::duration>(
+                                  std::chrono::duration<double>(options.max_seconds));
       for (;;)
         {
           // gamma = W lambda + w (Algorithm 1, first line)

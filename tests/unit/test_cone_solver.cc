@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <random>
 #include <sstream>
 
@@ -324,6 +325,31 @@ TEST(ConeSolverStop, AStopRequestEndsEitherMethodWithItsBestIterate)
       EXPECT_DOUBLE_EQ(stats.residual,
                        cone_residual(data, options.residual, solution.lambda, solution.gamma));
       EXPECT_EQ(solution.u.size(), data.A.n_rows);
+    }
+}
+
+TEST(ConeSolverStop, TheTimeLimitEndsAnInnerSolve)
+{
+  // Solver/Max seconds: the first inner solve of the fixed point is allowed billions of
+  // iterations towards a tolerance it cannot reach. It must end at the time limit (0.1 s), not
+  // when the outer loop next looks at the clock; the bound of 2 s leaves a loaded machine
+  // twenty times the limit.
+  const ConeProblemData data = coupled_random_problem();
+  for (const InnerSolver inner :
+       {InnerSolver::projected_gradient, InnerSolver::apgd, InnerSolver::spg})
+    {
+      ConeSolverOptions options;
+      options.inner_solver         = inner;
+      options.tolerance            = 1e-300;
+      options.max_inner_iterations = std::numeric_limits<unsigned int>::max() / 64;
+      options.max_seconds          = 0.1;
+      ConeSolution solution;
+      const auto   stats = solve_cone_problem(data, options, solution);
+      EXPECT_TRUE(stats.timed_out) << to_string(inner);
+      EXPECT_FALSE(stats.converged) << to_string(inner);
+      EXPECT_LT(stats.time_solve, 2.) << to_string(inner);
+      EXPECT_DOUBLE_EQ(stats.residual,
+                       cone_residual(data, options.residual, solution.lambda, solution.gamma));
     }
 }
 

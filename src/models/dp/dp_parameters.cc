@@ -146,11 +146,13 @@ namespace granflow::dp
                         Integer(1));
       prm.add_parameter("Max inner iterations", s.max_inner_iterations,
                         "Inner solver iterations per fixed-point iteration, >= 1.", Integer(1));
-      prm.add_parameter("Max seconds", s.max_seconds,
-                        "Wall-time limit of each cone solve in seconds, >= 0 (0: none), checked after "
-                        "each outer iteration. A solve stopped by it keeps its iterate of least "
-                        "residual and the run exits with status 3.",
-                        Double(0.));
+      prm.add_parameter(
+          "Max seconds", s.max_seconds,
+          "Wall-time limit of each cone solve in seconds, >= 0 (0: none). The fixed point's "
+          "inner solver stops at it; the interior point starts no iteration that "
+          "would, at the last one's duration, end past it. A solve stopped by it "
+          "keeps its iterate of least residual and the run exits with status 3.",
+          Double(0.));
       prm.add_parameter(
           "Anderson depth", s.anderson_depth,
           "Anderson acceleration of the Cadoux fixed point on s (0: plain Algorithm 1; "
