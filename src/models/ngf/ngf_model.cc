@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/reproducibility.h"
 #include "models/ngf/ngf_element.h"
 #include "postprocess/nonlocal_1d.h"
 
@@ -12,6 +13,7 @@
 #include <deal.II/fe/fe_q.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
+#include <deal.II/fe/mapping_q.h>
 #include <deal.II/fe/mapping_q1.h>
 #include <deal.II/grid/grid_generator.h>
 #include <deal.II/grid/grid_tools.h>
@@ -299,11 +301,13 @@ namespace granflow::ngf
       Point<dim>      middle;
       for (unsigned int i = 0; i < dim; ++i)
         middle[i] = 0.5;
-      FEValues<dim> values(scalar, quadrature,
-                           update_values | update_gradients | update_JxW_values |
-                               update_quadrature_points);
-      FEValues<dim> centroid(scalar, Quadrature<dim>(middle),
-                             update_values | update_gradients | update_quadrature_points);
+      // (every cell evaluated afresh, whatever the number of threads: core/reproducibility.h)
+      const WithoutCellSimilarity<MappingQ, dim> mapping(1);
+      FEValues<dim>                              values(mapping, scalar, quadrature,
+                                                        update_values | update_gradients | update_JxW_values |
+                                                            update_quadrature_points);
+      FEValues<dim>                              centroid(mapping, scalar, Quadrature<dim>(middle),
+                                                          update_values | update_gradients | update_quadrature_points);
       auto          three = [](const Tensor<1, dim> &t) {
         return dim == 3 ? Tensor<1, 3>({t[0], t[1], t[dim - 1]})
                                  : Tensor<1, 3>({t[0], 0., t[dim - 1]});
