@@ -219,8 +219,8 @@ namespace granflow::solvers
         Vector               best_u, best_lambda, best_gamma;
         double               step        = 0.;
         unsigned int         short_steps = 0, progress_iteration = 0;
+        double               progress_mark    = std::numeric_limits<double>::infinity();
         double               previous_elapsed = 0.; // at the previous iteration's record
-        double               progress_mark = std::numeric_limits<double>::infinity();
         for (;;)
           {
             evaluate(u, sl, z);
@@ -249,7 +249,7 @@ namespace granflow::solvers
             if (monitor.finished())
               break;
             // An iteration (one factorisation) is not interrupted: none is started that would,
-            // at the last one's duration, end past the time limit.
+            // at the last one's duration (at the first, the setup's), end past the time limit.
             if (options.max_seconds > 0. &&
                 elapsed + (elapsed - previous_elapsed) > options.max_seconds)
               {
@@ -257,8 +257,8 @@ namespace granflow::solvers
                 break;
               }
             previous_elapsed = elapsed;
-            step        = newton_step(u, sl, z);
-            short_steps = step < 1e-4 ? short_steps + 1 : 0;
+            step             = newton_step(u, sl, z);
+            short_steps      = step < 1e-4 ? short_steps + 1 : 0;
             ++stats.outer_iterations;
             // No step keeps the iterate interior (rounding has taken over), or the iterates have
             // left the central path and only crawl: stop with the best iterate.

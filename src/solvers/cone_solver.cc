@@ -476,7 +476,7 @@ namespace granflow::solvers
       detail::SolveMonitor monitor(options, stats);
       const auto t1 = Clock::now();
       if (options.max_seconds > 0. && options.max_seconds < 1e9) // (beyond: no limit, no overflow)
-        inner.deadline = t1 + std::chrono::duration_cast<Clock::duration>(
+        inner.deadline = t1 + std::chrono::ceil<Clock::duration>(
                                   std::chrono::duration<double>(options.max_seconds));
       for (;;)
         {

@@ -4,7 +4,7 @@
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "core/parameters.h"
-#include "core/reproducibility.h"
+#include "fem/mapping_without_cell_similarity.h"
 #include "geometry/geometry.h"
 #include "postprocess/analytic.h"
 #include "postprocess/profiles.h"
@@ -123,7 +123,7 @@ namespace granflow::dp
       Logger           &log;
 
       geometry::Mesh     mesh;
-      WithoutCellSimilarity<MappingFE, dim> mapping; // (core/reproducibility.h)
+      WithoutCellSimilarity<MappingFE, dim> mapping; // (fem/mapping_without_cell_similarity.h)
       FESystem<dim>      fe_u;
       FE_SimplexP<dim>   fe_p1{1};
       FE_SimplexDGP<dim> fe_dgp1{1};

@@ -2,7 +2,7 @@
 
 #include "core/errors.h"
 #include "core/interrupt.h"
-#include "core/reproducibility.h"
+#include "fem/mapping_without_cell_similarity.h"
 #include "models/ngf/ngf_element.h"
 #include "postprocess/nonlocal_1d.h"
 
@@ -301,13 +301,16 @@ namespace granflow::ngf
       Point<dim>      middle;
       for (unsigned int i = 0; i < dim; ++i)
         middle[i] = 0.5;
-      // (every cell evaluated afresh, whatever the number of threads: core/reproducibility.h)
+
+      // Every cell evaluated afresh, whatever the number of threads
+      // (fem/mapping_without_cell_similarity.h).
       const WithoutCellSimilarity<MappingQ, dim> mapping(1);
-      FEValues<dim>                              values(mapping, scalar, quadrature,
-                                                        update_values | update_gradients | update_JxW_values |
-                                                            update_quadrature_points);
-      FEValues<dim>                              centroid(mapping, scalar, Quadrature<dim>(middle),
-                                                          update_values | update_gradients | update_quadrature_points);
+
+      FEValues<dim> values(mapping, scalar, quadrature,
+                           update_values | update_gradients | update_JxW_values |
+                               update_quadrature_points);
+      FEValues<dim> centroid(mapping, scalar, Quadrature<dim>(middle),
+                             update_values | update_gradients | update_quadrature_points);
       auto          three = [](const Tensor<1, dim> &t) {
         return dim == 3 ? Tensor<1, 3>({t[0], t[1], t[dim - 1]})
                                  : Tensor<1, 3>({t[0], 0., t[dim - 1]});
