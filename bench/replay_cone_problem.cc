@@ -23,7 +23,9 @@ namespace
   constexpr char usage[] =
       "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg|ip ...]\n"
       "  (ip: the interior-point method on the whole problem; default methods: pg apgd spg)\n"
-      "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n";
+      "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n"
+      "  (GRANFLOW_REPLAY_UNITS=paper: the residual of Daviet (35), lambda against gamma with its\n"
+      "   quadrature weight, instead of the run's units of stress)\n";
 
   /// A positive finite number written in full ("1e-6", not "1e-6x"), or nothing.
   std::optional<double>
@@ -127,6 +129,19 @@ main(int argc, char **argv)
       max_seconds = *value;
     }
 
+  // The residual's units: the run's (lambda against the viscous stress of the strain rate, the
+  // scales the dump carries) or the paper's: Daviet (34b)-(35b) make gamma_q = R^{+T} B u, which
+  // for the square, block-diagonal R of P1d at its quadrature points is w_q D(u)(x_q), the strain
+  // rate times the point's weight (what granflow compared lambda with before session 12). Table 2
+  // measures its tolerance on (35).
+  bool paper_units = false;
+  if (const char *u = std::getenv("GRANFLOW_REPLAY_UNITS"); u && *u)
+    {
+      if (std::string(u) != "paper" && std::string(u) != "run")
+        return bad_input("GRANFLOW_REPLAY_UNITS='" + std::string(u) + "': expected paper or run");
+      paper_units = std::string(u) == "paper";
+    }
+
   ConeProblemData data;
   try
     {
@@ -136,6 +151,8 @@ main(int argc, char **argv)
     {
       return bad_input(e.what());
     }
+  if (paper_units)
+    data.gamma_scale.clear();
 
   interrupt::install();
   nlohmann::json results = nlohmann::json::array();
@@ -143,7 +160,8 @@ main(int argc, char **argv)
   for (const auto &name : names)
     {
       nlohmann::json    entry = {{"method", name == "ip" ? "interior point" : "fixed point"},
-                                 {"inner_solver", name == "ip" ? "" : name}};
+                                 {"inner_solver", name == "ip" ? "" : name},
+                                 {"residual_units", paper_units ? "paper" : "run"}};
       ConeSolverOptions options;
       if (name == "ip")
         options.method = ConeMethod::interior_point;

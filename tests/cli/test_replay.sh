@@ -36,6 +36,16 @@ check scales-do-not-match 2 "has 1 residual scales for" "$REPLAY" scales.bin
 check bad-max-seconds 2 "GRANFLOW_REPLAY_MAX_SECONDS='soon' is not a number of seconds" \
   env GRANFLOW_REPLAY_MAX_SECONDS=soon "$REPLAY" bagnold.bin
 
+check bad-units 2 "GRANFLOW_REPLAY_UNITS='stress': expected paper or run" \
+  env GRANFLOW_REPLAY_UNITS=stress "$REPLAY" bagnold.bin
+# The paper's residual (Daviet (35): gamma with its point's weight), as Table 2 measures it.
+check replay-paper-units 0 '"residual_units": "paper"' env GRANFLOW_REPLAY_UNITS=paper "$REPLAY" \
+  bagnold.bin 1e-6 ip
+if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
+assert r[0]["converged"] and r[0]["residual"] <= 1e-6, r' out.txt; then
+  pass "replay in the paper's units converges"
+else fail "replay in the paper's units converges"; cat out.txt; fi
+
 check replay 0 '"converged": true' "$REPLAY" bagnold.bin 1e-6 spg ip
 if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
 assert [e["method"] for e in r] == ["fixed point", "interior point"], r
