@@ -305,6 +305,11 @@ ngf_bad fluidity-neumann-missing "side" --set "Fluidity boundary conditions/Neum
 ngf_bad fluidity-boundary-of-other-geometry "inner wall" --set "Fluidity boundary conditions/Dirichlet=inner wall: 0"
 check ngf-annulus-no-fd-reference 2 "Output/Reference" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" \
   --output keep --quiet --set "Output/Reference=finite difference"
+# The annulus row's top and bottom are the planes of a row standing for an infinitely tall annulus
+# (6.2): a fluidity condition there breaks the reduction to (92) (it ran, with mu_wall below mu_s).
+check ngf-annulus-row-top 2 "names boundary 'top', which the annulus row lacks: expected inner wall or outer wall" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet \
+  --set "Fluidity boundary conditions/Dirichlet=top: 0"
 ngf_bad fluidity-boundary-twice "a second time" --set "Fluidity boundary conditions/Dirichlet=wall: 0, wall: 5"
 ngf_bad fluidity-boundary-in-both-lists "a second time" --set "Fluidity boundary conditions/Dirichlet=wall: 0" \
   --set "Fluidity boundary conditions/Neumann=wall: 100"
@@ -353,8 +358,10 @@ check ngf-fluidity-source 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ng
 check ngf-g-zero-wall-below-mu-s 0 "is below mu_s" "$GRANFLOW" run "$ngf_case" --output ngf_g0 \
   --set "Output/Reference=none" --set "Fluidity boundary conditions/Dirichlet=wall: 0" \
   --set "Geometry/Element size=1"
-if grep -q '"warnings": \[\]' ngf_source/summary.json; then pass "ngf fluidity source: no warning";
-else fail "ngf fluidity source: no warning"; grep -A3 warnings ngf_source/summary.json; fi
+# (Its band is 2.2 elements wide, which is warned about; the "below mu_s" warning must not be.)
+if [ -s ngf_source/summary.json ] && ! grep -q "is below mu_s" ngf_source/summary.json; then
+  pass "ngf fluidity source: no below-mu_s warning"
+else fail "ngf fluidity source: no below-mu_s warning"; grep -A3 warnings ngf_source/summary.json; fi
 # A run too short to yield ends normally but says it is not steady (summary.json and a warning).
 check ngf-not-steady 0 "warning: not steady over the last tenth of the run" "$GRANFLOW" run "$ngf_case" \
   --output ngf_short --set "Loading/Wall displacement=1e-4"

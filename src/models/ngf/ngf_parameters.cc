@@ -122,8 +122,8 @@ namespace granflow::ngf
                         Anything());
       prm.add_parameter(
           "Neumann", fluidity_bc.neumann,
-          "'name: zeta, ...': prescribed grad g . n [1/(s m)] (25); every other boundary "
-          "has zeta = 0.",
+          "'name: zeta, ...': prescribed grad g . n [1/(s m)], n the outward normal (25); every "
+          "other boundary has zeta = 0.",
           Anything());
     }
     prm.leave_subsection();
@@ -324,6 +324,11 @@ namespace granflow::ngf
   {
     if (geometry.shape == "shear column")
       return {"wall", "bottom"}; // z = 0 and z = depth
+    // The annulus row's top and bottom are the planes u_z = 0 of a row one element high, which
+    // stands for an infinitely tall annulus (6.2): grad g . n = 0 there is part of the reduction
+    // to (92), not a condition to choose.
+    if (geometry.shape == "annulus row")
+      return {"inner wall", "outer wall"};
     return {"inner wall", "outer wall", "bottom", "top"};
   }
 

@@ -106,7 +106,7 @@ namespace granflow::ngf
     fluidity_dirichlet() const;
     std::vector<std::pair<std::string, double>>
     fluidity_neumann() const;
-    /// Names of the boundaries of the geometry, as case files address them.
+    /// Names of the boundaries of the geometry that a fluidity condition may name.
     std::vector<std::string>
     boundary_names() const;
   };
