@@ -1289,7 +1289,7 @@ namespace granflow::ngf
             }
           // A band of a few elements is resolved, but coarsely: in the shear column at
           // P_wall / (phi rho_s G d) = 0.5 (W = 1.8 h) mu_wall and W/d are 11 % off the FD
-          // solution of (90), at 4 h (the default case) 0.02 % and 1.4 %; at 2.3 h the annulus's
+          // solution of (90), at 4 h (the default case) 0.02 % and 1.4 %; at 2.7 h the annulus's
           // surface velocity is 0.09 v_wall from a fine mesh's (docs/ngf.md).
           else if (finished && W < 3. * scale.h / d)
             {
