@@ -902,6 +902,10 @@ namespace granflow::ngf
       summary["mesh"]     = {{"elements", tria.n_active_cells()},
                              {"h_over_d", scale.h / d},
                              {"dofs", dof_handler.n_dofs()}};
+      // The annulus's height is divided into elements of its own size, round(H / h) of them
+      // (Parameters::scales), which may differ from the radial h.
+      if (!column && !row)
+        summary["mesh"]["h_vertical_over_d"] = scale.H / scale.n_2 / d;
       if (column)
         {
           summary["P_wall_over_phi_rho_s_G_d"] = prm.loading.wall_pressure;
