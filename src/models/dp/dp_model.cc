@@ -157,6 +157,8 @@ namespace granflow::dp
       std::vector<VelocityBoundary> velocity_boundaries;
       /// Boundary conditions/External pressure, parsed once by setup(): (boundary, p_ext).
       std::vector<std::pair<types::boundary_id, double>> external_pressures;
+      /// Boundary conditions/Analytic traction, parsed once by setup().
+      std::vector<types::boundary_id> analytic_tractions;
       /// The velocity dofs in terms of the unknowns w of the cone problem: u_i = c_i
       /// w_free_index[i] where free_index[i] >= 0, u_i = u_D otherwise. c_i = 1, except at a node
       /// with one constrained direction d (Zero normal or tangential velocity), whose two dofs
@@ -508,14 +510,13 @@ namespace granflow::dp
       // sigma_tot = [[-p, s], [s, -p]] with p = (1 - y) cos a and s = (1 - y) sin a (the viscous
       // part eta u' = (sin a - mu cos a)(1 - y) plus the saturated friction mu p).
       const double alpha = std::atan2(e_g[0], -e_g[1]);
-      for (const std::string &name : split_list(prm.boundaries.analytic_traction))
-        add_traction(mesh.id(name, prm.case_file), 4,
-                     [alpha](const Point<dim> &x, const Tensor<1, dim> &normal) {
-                       Tensor<2, dim> sigma;
-                       sigma[0][0] = sigma[1][1] = -(1. - x[1]) * std::cos(alpha);
-                       sigma[0][1] = sigma[1][0] = (1. - x[1]) * std::sin(alpha);
-                       return sigma * normal;
-                     });
+      for (const types::boundary_id id : analytic_tractions)
+        add_traction(id, 4, [alpha](const Point<dim> &x, const Tensor<1, dim> &normal) {
+          Tensor<2, dim> sigma;
+          sigma[0][0] = sigma[1][1] = -(1. - x[1]) * std::cos(alpha);
+          sigma[0][1] = sigma[1][0] = (1. - x[1]) * std::sin(alpha);
+          return sigma * normal;
+        });
 
       data.A        = solvers::CsrMatrix();
       data.A.n_rows = data.A.n_cols = n_free;
@@ -763,6 +764,9 @@ namespace granflow::dp
                                  "pressure does nothing: expected a boundary where the normal "
                                  "velocity is free");
         }
+      for (const std::string &name : split_list(bc.analytic_traction))
+        analytic_tractions.push_back(
+            mesh.id(name, prm.case_file, "Boundary conditions/Analytic traction"));
       if (!prm.output.drag_boundary.empty())
         {
           // The force is the reaction where the velocity is constrained (boundary_force()).
@@ -836,8 +840,7 @@ namespace granflow::dp
         conditioned.insert(vb.id);
       for (const auto &[id, p] : external_pressures)
         conditioned.insert(id);
-      for (const std::string &name : split_list(bc.analytic_traction))
-        conditioned.insert(mesh.id(name, prm.case_file));
+      conditioned.insert(analytic_tractions.begin(), analytic_tractions.end());
       std::string free;
       for (const auto &[name, id] : mesh.boundary_ids)
         {
