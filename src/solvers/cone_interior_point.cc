@@ -219,8 +219,7 @@ namespace granflow::solvers
         Vector               best_u, best_lambda, best_gamma;
         double               step        = 0.;
         unsigned int         short_steps = 0, progress_iteration = 0;
-        double               progress_mark    = std::numeric_limits<double>::infinity();
-        double               previous_elapsed = 0.; // at the previous iteration's record
+        double               progress_mark = std::numeric_limits<double>::infinity();
         for (;;)
           {
             evaluate(u, sl, z);
@@ -246,17 +245,10 @@ namespace granflow::solvers
                            << std::setprecision(4) << step << std::setw(13) << std::setprecision(3)
                            << elapsed << std::endl
                            << std::defaultfloat;
-            if (monitor.finished())
-              break;
             // An iteration (one factorisation) is not interrupted: none is started that would,
-            // at the last one's duration (at the first, the setup's), end past the time limit.
-            if (options.max_seconds > 0. &&
-                elapsed + (elapsed - previous_elapsed) > options.max_seconds)
-              {
-                stats.timed_out = true;
-                break;
-              }
-            previous_elapsed = elapsed;
+            // at the last one's duration, end past the time limit.
+            if (monitor.finished(true))
+              break;
             step             = newton_step(u, sl, z);
             short_steps      = step < 1e-4 ? short_steps + 1 : 0;
             ++stats.outer_iterations;

@@ -38,9 +38,11 @@ namespace granflow::solvers::detail
 
     /// Called once the iterate is logged: reports progress, then tells whether the loop ends
     /// (tolerance reached, which sets stats.converged; a stop request, which sets
-    /// stats.interrupted; or the iteration or time limit).
+    /// stats.interrupted; or the iteration or time limit). With `predict`, for iterations that
+    /// cannot be interrupted, the time limit also ends the loop where the next iteration would,
+    /// at the last one's duration (at the first, the setup's), end past it.
     bool
-    finished()
+    finished(const bool predict = false)
     {
       if (options.progress)
         options.progress(stats.outer_iterations, stats.residual);
@@ -54,7 +56,10 @@ namespace granflow::solvers::detail
           stats.interrupted = true;
           return true;
         }
-      stats.timed_out = options.max_seconds > 0. && stats.time_history.back() > options.max_seconds;
+      const auto  &t    = stats.time_history;
+      const double last = t.size() > 1 ? t.back() - t[t.size() - 2] : t.back();
+      stats.timed_out =
+          options.max_seconds > 0. && t.back() + (predict ? last : 0.) > options.max_seconds;
       return stats.outer_iterations == options.max_outer_iterations || stats.timed_out;
     }
 
