@@ -374,5 +374,10 @@ if grep -qF "best iterate of the last attempt: iteration" err.txt; then pass "ng
 else fail "ngf not-converged message lacks the least residuals"; fi
 if [ -s ngf_nc/summary.json ]; then pass "ngf not-converged keeps summary";
 else fail "ngf not-converged summary missing"; fi
+# Elements much larger than the cooperativity length: Newton fails as the flow starts, and the
+# message names the cause (before, only the increment it had cut down to).
+check ngf-element-above-cooperativity-length 3 "times the smallest cooperativity length" \
+  "$GRANFLOW" run "$ngf_case" --output ngf_coarse --quiet --set "Output/Reference=none" \
+  --set "Geometry/Element size=4"
 
 summary
