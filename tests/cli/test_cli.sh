@@ -35,6 +35,9 @@ for name in ("tau_norm", "D0_norm", "residual"):
     assert d[name].min() >= 0.0, (name, d[name].min())
 PY
 then pass "vtu zone and norms"; else fail "vtu zone and norms"; fi
+if "$SOURCE_DIR/scripts/plot" out/solution-0000.vtu pressure -o plot.png >/dev/null 2>&1 &&
+  [ -s plot.png ]; then pass "plot vtu field"; else fail "plot vtu field"; fi
+rm -f plot.png
 
 # A rerun without VTU output into the same directory removes the earlier run's solution files
 # (they would belong to another run) and keeps files a user put there.
@@ -337,6 +340,14 @@ check ngf-run 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_out --quie
 for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.csv profiles/stress.csv newton.csv history.csv; do
   if [ -s "ngf_out/$f" ]; then pass "ngf output $f";
   else fail "ngf output $f missing"; fi
+done
+# scripts/plot draws what a run wrote: a profile against its reference, a profile of columns
+# without one (ngf's stress.csv, one panel each); the dp run's VTU above.
+for f in out/profiles/velocity.csv ngf_out/profiles/velocity.csv ngf_out/profiles/stress.csv; do
+  if "$SOURCE_DIR/scripts/plot" "$f" -o plot.png >/dev/null 2>&1 && [ -s plot.png ]; then
+    pass "plot $f"
+  else fail "plot $f"; fi
+  rm -f plot.png
 done
 # W / d is reported with a warning where the band is narrower than an element (the local model)
 # or confined by the far wall (a shallow bed at a fast wall).
