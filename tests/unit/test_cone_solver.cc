@@ -3,6 +3,7 @@
 #include "rheology/drucker_prager.h"
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
+#include "solvers/solve_monitor.h"
 
 #include <gtest/gtest.h>
 
@@ -355,6 +356,48 @@ TEST(ConeSolverStop, TheTimeLimitEndsAnInnerSolve)
       EXPECT_DOUBLE_EQ(stats.residual,
                        cone_residual(data, options.residual, solution.lambda, solution.gamma));
     }
+}
+
+TEST(ConeSolverStop, TheInteriorPointStartsNoIterationThatWouldEndPastTheTimeLimit)
+{
+  // The interior point's iterations (one factorisation each) cannot be interrupted, so its loop
+  // asks SolveMonitor::finished(true), which ends where the next iteration, at the last one's
+  // duration (at the first, the setup's), would end past Solver/Max seconds. Elapsed times are
+  // given, not measured, so that the test does not depend on the machine.
+  ConeSolverOptions options;
+  options.tolerance   = 1e-300;
+  options.max_seconds = 10.;
+  // elapsed time of each iterate and whether the loop ends there with and without prediction
+  struct Step
+  {
+    double elapsed;
+    bool   ends_predicted, ends_plain;
+  };
+  const std::vector<Step> steps = {{3., false, false},  // setup 3 s: 3 + 3 <= 10
+                                   {6., false, false},  // 6 + 3 <= 10
+                                   {8., false, false},  // 8 + 2 = 10, not past
+                                   {9.5, true, false}}; // 9.5 + 1.5 > 10, though 9.5 < 10
+  for (const bool predict : {true, false})
+    {
+      ConeSolverStats      stats;
+      detail::SolveMonitor monitor(options, stats);
+      for (const Step &step : steps)
+        {
+          monitor.record(1., step.elapsed);
+          const bool ends = monitor.finished(predict);
+          EXPECT_EQ(ends, predict ? step.ends_predicted : step.ends_plain)
+              << "predict " << predict << " at " << step.elapsed << " s";
+          EXPECT_EQ(stats.timed_out, ends);
+          ++stats.outer_iterations;
+        }
+    }
+  // Without a limit nothing times out, however long an iteration takes.
+  options.max_seconds = 0.;
+  ConeSolverStats      stats;
+  detail::SolveMonitor monitor(options, stats);
+  monitor.record(1., 1e9);
+  EXPECT_FALSE(monitor.finished(true));
+  EXPECT_FALSE(stats.timed_out);
 }
 
 TEST(ConeProblemIO, DumpAndLoadRoundTrip)
