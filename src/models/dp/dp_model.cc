@@ -1412,12 +1412,16 @@ namespace granflow::dp
           S["boundary_rigid_fraction"] = rigid_fraction;
           if (rigid_fraction > 0.1)
             {
+              // A warning, in summary.json too, since session 14: as a note in the log only, a
+              // user reading the silo wall's force in summary.json did not see it.
               std::ostringstream w;
-              w << "dp: note: " << 100. * rigid_fraction << " % of the constraint points next to '"
-                << prm.output.drag_boundary
+              w << std::setprecision(3) << 100. * rigid_fraction
+                << " % of the constraint points next to '" << prm.output.drag_boundary
                 << "' are rigid; the stress in a rigid zone is not unique (only the velocity is, "
-                   "Daviet 4.4.4), so boundary_force and drag depend on the solver there\n";
-              log.print(w.str());
+                   "Daviet 4.4.4), so boundary_force and drag are not determined by the model "
+                   "there and depend on the solver (the silo's wall: vertical force +8.7 by the "
+                   "interior point, -5.8 by the fixed point)";
+              warn(w.str());
             }
           // The trace of the stress field, lambda n = (lambda_xx n_x + lambda_xy n_y) with lambda =
           // chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]]: the earlier estimate,
