@@ -52,6 +52,12 @@ else fail "rerun left stale solution files or removed a user's file"; ls out; fi
 mkdir -p mycase && cp out/mesh.msh mycase/channel.msh
 sed -e 's/set Shape = channel/set Shape = file\n  set Mesh file = channel.msh/' "$case_file" >mycase/mine.prm
 check mesh-file-beside-case 0 "Results in user_mesh" "$GRANFLOW" run mycase/mine.prm --output user_mesh --quiet
+# A built-in shape's entry set for a mesh file (or another shape's) has no effect: a warning says
+# so, in summary.json too (a user varying the aperture of a mesh file got identical runs).
+check ignored-geometry-entry 0 "Geometry/Aperture = 3 is not used by Geometry/Shape = file" \
+  "$GRANFLOW" run mycase/mine.prm --output user_mesh_aperture --set "Geometry/Aperture=3"
+if grep -q "Geometry/Aperture = 3 is not used" user_mesh_aperture/summary.json; then
+  pass "ignored geometry entry in summary"; else fail "ignored geometry entry in summary"; fi
 check mesh-file-set-is-cwd-relative 0 "Results in user_mesh2" "$GRANFLOW" run mycase/mine.prm --output user_mesh2 \
   --quiet --set "Geometry/Mesh file=mycase/channel.msh"
 

@@ -657,6 +657,8 @@ namespace granflow::dp
       const auto &g   = prm.geometry;
       const auto  msh = out.file("mesh.msh");
       const auto &f   = prm.case_file;
+      for (const auto &message : prm.ignored_geometry_entries())
+        warn(message);
       if (g.shape == "channel")
         geometry::make_channel(mesh, g.channel_length, g.channel_width, g.mesh_size, msh, f);
       else if (g.shape == "square patch")
@@ -1045,7 +1047,8 @@ namespace granflow::dp
       postprocess(results);
       if (prm.output.write_vtu)
         write_vtu();
-      results.summary["timings"] = timings;
+      results.summary["warnings"]           = warnings; // with those of postprocess()
+      results.summary["timings"]            = timings;
       results.summary["timings"]["total_s"] = log.elapsed();
       out.write_json("summary.json", results.summary);
 
@@ -1200,8 +1203,7 @@ namespace granflow::dp
           cell_zone[cell->active_cell_index()] = *most >= 2 ? most - count.begin() : 1;
         }
 
-      nlohmann::json &S = results.summary;
-      S["warnings"]                 = warnings;
+      nlohmann::json &S             = results.summary;
       S["traction_free_boundaries"] = traction_free;
       S["case"]         = prm.name;
       S["case_file"]    = prm.case_file;

@@ -103,6 +103,12 @@ namespace granflow::dp
     validate() const;
     dealii::Tensor<1, 2>
     e_g() const;
+    /// One message per Geometry entry that Geometry/Shape does not use but that differs from its
+    /// default: the run ignores it, and warns (a user varying the aperture or the mesh size with
+    /// a mesh file got identical runs without a word). A warning, not an error, so that a case
+    /// file can switch Shape and keep the other shape's entries.
+    std::vector<std::string>
+    ignored_geometry_entries() const;
   };
 
   /// Declares, parses `case_file` with the overrides and validates (InputError on bad input).
