@@ -458,8 +458,10 @@ namespace granflow::geometry
     std::string names;
     for (const auto &[known, id] : boundary_ids)
       names += (names.empty() ? "'" : ", '") + known + "'";
+    const auto        note = absent_boundary_notes.find(name);
     const std::string what = "the mesh has no boundary named '" + name + "': its boundaries are " +
-                             (names.empty() ? "(none)" : names);
+                             (names.empty() ? "(none)" : names) +
+                             (note != absent_boundary_notes.end() ? " (" + note->second + ")" : "");
     if (entry.empty())
       throw InputError(context_file + ": " + what);
     throw InputError(context_file, entry, what);
@@ -587,6 +589,11 @@ namespace granflow::geometry
                           {silo, tube});
         }
       mesh_and_write(mesh, msh_path, source);
+      mesh.absent_boundary_notes.clear();
+      if (extension == 0)
+        mesh.absent_boundary_notes["outlet_wall"] =
+            "the half silo has an outlet_wall only below its outlet, when " +
+            std::string(entry::outlet_extension) + " > 0";
     });
   }
 

@@ -40,6 +40,10 @@ namespace granflow::geometry
     /// Boundary name -> boundary id.
     std::map<std::string, dealii::types::boundary_id> boundary_ids;
 
+    /// Boundary name -> why this mesh lacks it, for id()'s error (the half silo without an outlet
+    /// extension has no outlet_wall).
+    std::map<std::string, std::string> absent_boundary_notes;
+
     /// The id of boundary `name`. Throws InputError naming `context_file` (the case that needs the
     /// boundary), the `entry` that names it (if given), `name` and the names this mesh has.
     dealii::types::boundary_id

@@ -168,8 +168,11 @@ bad refinements-too-many "Geometry/Global refinements" --set "Geometry/Global re
 bad gravity-not-finite "Gravity direction" --set "Gravity direction=nan, 1"
 bad external-pressure-not-finite "finite number" --set "Boundary conditions/External pressure=inlet: inf"
 bad profile-off-the-mesh "Output/Profile start" --set "Output/Profile start=100, 100" --set "Output/Profile end=101, 100"
-bad rigid-motion-free "Boundary conditions/No-slip" --set "Boundary conditions/No-slip="
-bad rigid-motion-free-interior-point "Boundary conditions/No-slip" --set "Boundary conditions/No-slip=" \
+# Named as the whole subsection, whose entries can each fix the motion (naming No-slip confused a
+# user whose No-slip was empty).
+bad rigid-motion-free "entry 'Boundary conditions': with its velocity conditions (No-slip, Zero x-velocity" \
+  --set "Boundary conditions/No-slip="
+bad rigid-motion-free-interior-point "entry 'Boundary conditions'" --set "Boundary conditions/No-slip=" \
   --set "Solver/Method=interior point" --set "Rheology/mu=0.3" --set "Rheology/Bi=0" --set "Output/Reference=none"
 # A velocity fixed only in part leaves A singular in exact arithmetic but not to CHOLMOD (tiny
 # positive pivots): the run "converged" to |u| = 1e14. The silo with only its axis held:
@@ -238,6 +241,9 @@ bad zero-tangential-velocity-leaves-rigid-motion "the velocity can still transla
   --set "Boundary conditions/Zero tangential velocity=inlet, outlet" --set "Output/Reference=none"
 bad viscosity-tolerance-zero "Solver/Viscosity tolerance" --set "Solver/Viscosity tolerance=0"
 bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip'" --set "Boundary conditions/No-slip=bottom, lid"
+check silo-without-outlet-extension 2 "has an outlet_wall only below its outlet, when Geometry/Outlet extension > 0" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" --output keep --quiet \
+  --set "Geometry/Outlet extension=0"
 bad blames-the-set "--set Geometry/Mesh size=0" --set "Geometry/Mesh size=0"
 # An analytic reference is refused where it does not hold (its max_rel_error would be wrong).
 bad reference-bingham-needs-mu-0 "'bingham poiseuille' needs Rheology/mu = 0" \

@@ -45,6 +45,10 @@ namespace granflow::dp
     constexpr unsigned int s_d = rheology::n_sym<dim>; // 3 components per constraint point
     using SymVector            = rheology::SymVector<dim>;
 
+    /// The entries of Boundary conditions that fix velocity components, for messages.
+    const std::string velocity_condition_entries = "No-slip, Zero x-velocity, Zero y-velocity, "
+                                                   "Zero normal velocity, Zero tangential velocity";
+
     /// Symmetric 3-point rule exact for degree 2 with positive weights (DESIGN.md): the
     /// constraint points of the P1d stress, so that R is square and invertible per element.
     Quadrature<dim>
@@ -402,15 +406,25 @@ namespace granflow::dp
           else if (std::abs(m[2]) > std::hypot(m[0], m[1]))
             what << "the velocity can still rotate";
           else
-            what << "the velocity can still translate along (" << m[0] / std::hypot(m[0], m[1])
-                 << ", " << m[1] / std::hypot(m[0], m[1]) << ")";
+            {
+              // rounding's 1e-17 printed as 0
+              const auto component = [&](const double c) {
+                const double x = c / std::hypot(m[0], m[1]);
+                return std::abs(x) < 1e-9 ? 0. : x;
+              };
+              what << std::setprecision(3) << "the velocity can still translate along ("
+                   << component(m[0]) << ", " << component(m[1]) << ")";
+            }
           std::ostringstream where;
           if (cells.size() < mesh.triangulation.n_active_cells())
             where << " on the part of the mesh around (" << centre[0] << ", " << centre[1] << ") ("
                   << cells.size() << " of " << mesh.triangulation.n_active_cells()
                   << " triangles, joined to the rest by no edge)";
-          throw InputError(prm.case_file, "Boundary conditions/No-slip",
-                           "with the other velocity conditions: " + what.str() + where.str() +
+          // Named as the whole subsection: any of its velocity conditions can fix the motion
+          // (naming No-slip confused a user whose No-slip entry was empty).
+          throw InputError(prm.case_file, "Boundary conditions",
+                           "with its velocity conditions (" + velocity_condition_entries + ") " +
+                               what.str() + where.str() +
                                " (A is singular): expected velocity conditions that fix both "
                                "translations and the rotation of every part of the mesh");
         }
@@ -922,10 +936,11 @@ namespace granflow::dp
         }
       catch (const solvers::NotPositiveDefinite &)
         {
-          throw InputError(prm.case_file, "Boundary conditions/No-slip",
-                           "with the other velocity conditions leaves a rigid motion of the "
-                           "velocity free (A is singular): expected velocity conditions that fix "
-                           "both translations and the rotation");
+          throw InputError(prm.case_file, "Boundary conditions",
+                           "its velocity conditions (" + velocity_condition_entries +
+                               ") leave a rigid motion of the velocity free (A is singular): "
+                               "expected velocity conditions that fix both translations and the "
+                               "rotation");
         }
       log.flush_table();
 
