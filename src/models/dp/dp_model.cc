@@ -1223,6 +1223,13 @@ namespace granflow::dp
       S["case"]         = prm.name;
       S["case_file"]    = prm.case_file;
       S["model"]        = "dp";
+      // Daviet (23): every quantity here is dimensionless in these units (L the case's length
+      // unit, g gravity, rho the density); 2D, so fluxes and forces are per unit depth.
+      S["units"]        = {{"length", "L"},
+                           {"velocity", "sqrt(g L)"},
+                           {"stress", "rho g L"},
+                           {"volume_outflow", "L sqrt(g L) per unit depth"},
+                           {"force", "rho g L^2 per unit depth"}};
       S["rheology"]     = {{"mu", prm.rheology.mu}, {"Bi", prm.rheology.Bi}, {"Re", prm.rheology.Re},
                            {"b", prm.rheology.b}, {"viscosity", prm.rheology.viscosity}};
       S["mesh"]         = {{"triangles", mesh.triangulation.n_active_cells()},
