@@ -8,6 +8,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 
@@ -152,6 +153,63 @@ namespace granflow
       if (!std::filesystem::is_regular_file(file) || !std::ifstream(file))
         throw InputError(file + ": cannot open the case file (no such readable file)");
     }
+
+    /// What ParameterHandler does not say, with the line: a subsection left open at the end of the
+    /// file (deal.II's message has no line), and an entry set twice (deal.II keeps the last value
+    /// without a word, so a user's edit above a forgotten line had no effect).
+    void
+    check_structure(const std::string &file)
+    {
+      std::ifstream                                 in(file);
+      std::vector<std::pair<std::string, unsigned>> open;   // subsection name, line
+      std::map<std::string, unsigned>               set_on; // "Section/key" -> line
+      std::string                                   line, logical;
+      unsigned                                      number = 0, first = 0;
+      const auto words = [](const std::string &text) { // trimmed, inner blanks collapsed
+        std::istringstream w(text);
+        std::string        word, joined;
+        while (w >> word)
+          joined += (joined.empty() ? "" : " ") + word;
+        return joined;
+      };
+      while (std::getline(in, line))
+        {
+          ++number;
+          if (logical.empty())
+            first = number;
+          if (const auto hash = line.find('#'); hash != std::string::npos)
+            line.erase(hash);
+          line = words(line);
+          // a trailing backslash continues the line (ParameterHandler::parse_input)
+          if (!line.empty() && line.back() == '\\')
+            {
+              logical += line.substr(0, line.size() - 1) + " ";
+              continue;
+            }
+          line = words(logical + line);
+          logical.clear();
+          if (line.rfind("subsection ", 0) == 0)
+            open.emplace_back(words(line.substr(11)), first);
+          else if (line == "end" && !open.empty())
+            open.pop_back();
+          else if (line.rfind("set ", 0) == 0)
+            {
+              std::string path;
+              for (const auto &section : open)
+                path += section.first + "/";
+              path += words(line.substr(4, line.find('=') - 4));
+              if (const auto [it, fresh] = set_on.emplace(path, first); !fresh)
+                throw InputError(file, path,
+                                 "is set on line " + std::to_string(it->second) +
+                                     " and again on line " + std::to_string(first) +
+                                     ": expected one value (delete one of the lines)");
+            }
+        }
+      if (!open.empty())
+        throw InputError(file + ": subsection '" + open.back().first + "' opened on line " +
+                         std::to_string(open.back().second) +
+                         " is not closed: expected an 'end' line for it");
+    }
   } // namespace
 
   Interval::Interval(const double lower, const bool lower_open, const double upper,
@@ -209,6 +267,7 @@ namespace granflow
   read_model_name(const std::string &case_file)
   {
     require_readable(case_file);
+    check_structure(case_file);
     dealii::ParameterHandler prm;
     prm.declare_entry("Model", "", dealii::Patterns::Anything(), "");
     try
@@ -232,6 +291,7 @@ namespace granflow
                   const std::vector<std::string> &path_entries)
   {
     require_readable(case_file);
+    check_structure(case_file);
     try
       {
         prm.parse_input(case_file, "", false, true);

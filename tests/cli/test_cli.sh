@@ -152,6 +152,14 @@ check unknown-key-says-where-to-look 2 "line 4: unknown entry 'frobnication' in 
 printf 'set Model = dp\nsubsection Rheolog\n  set mu = 0.5\nend\n' >unknown_subsection.prm
 check unknown-subsection 2 "unknown_subsection.prm: line 2: unknown subsection 'Rheolog'" "$GRANFLOW" run \
   unknown_subsection.prm --output keep --quiet
+# A subsection left open (deal.II's message had no line) and an entry set twice (deal.II kept the
+# last value without a word).
+printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n' >unclosed.prm
+check unclosed-subsection 2 "unclosed.prm: subsection 'Rheology' opened on line 2 is not closed" \
+  "$GRANFLOW" run unclosed.prm --output keep --quiet
+printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n  set  mu  = 0.2 # again\nend\n' >twice.prm
+check entry-set-twice 2 "entry 'Rheology/mu': is set on line 3 and again on line 4" \
+  "$GRANFLOW" run twice.prm --output keep --quiet
 check unknown-set-entry 2 "--set Rheology/Friction=0.5: unknown entry 'Rheology/Friction'" "$GRANFLOW" run \
   "$case_file" --output keep --quiet --set "Rheology/Friction=0.5"
 bad mu-negative "mu" --set "Rheology/mu=-0.1"
