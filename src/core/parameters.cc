@@ -172,27 +172,39 @@ namespace granflow
           joined += (joined.empty() ? "" : " ") + word;
         return joined;
       };
+      // deal.II's keywords, in lower or upper case (ParameterHandler::scan_line)
+      const auto starts = [](const std::string &text, const std::string &keyword) {
+        std::string upper = keyword;
+        std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);
+        return text.rfind(keyword, 0) == 0 || text.rfind(upper, 0) == 0;
+      };
       while (std::getline(in, line))
         {
           ++number;
           if (logical.empty())
             first = number;
-          if (const auto hash = line.find('#'); hash != std::string::npos)
-            line.erase(hash);
-          line = words(line);
-          // a trailing backslash continues the line (ParameterHandler::parse_input)
+          // A trailing backslash continues the line, even a comment (ParameterHandler joins the
+          // lines first and strips comments after).
+          line.erase(line.find_last_not_of(" \t\r") + 1);
           if (!line.empty() && line.back() == '\\')
             {
               logical += line.substr(0, line.size() - 1) + " ";
               continue;
             }
-          line = words(logical + line);
+          line = logical + line;
           logical.clear();
-          if (line.rfind("subsection ", 0) == 0)
+          if (const auto hash = line.find('#'); hash != std::string::npos)
+            line.erase(hash);
+          line = words(line);
+          if (starts(line, "subsection "))
             open.emplace_back(words(line.substr(11)), first);
-          else if (line == "end" && !open.empty())
-            open.pop_back();
-          else if (line.rfind("set ", 0) == 0)
+          else if (starts(line, "end"))
+            {
+              // text after "end" is deal.II's to report, with its line
+              if (!open.empty())
+                open.pop_back();
+            }
+          else if (starts(line, "set "))
             {
               std::string path;
               for (const auto &section : open)
@@ -204,6 +216,7 @@ namespace granflow
                                      " and again on line " + std::to_string(first) +
                                      ": expected one value (delete one of the lines)");
             }
+          // (an included file's entries are not followed)
         }
       if (!open.empty())
         throw InputError(file + ": subsection '" + open.back().first + "' opened on line " +

@@ -160,6 +160,11 @@ check unclosed-subsection 2 "unclosed.prm: subsection 'Rheology' opened on line 
 printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n  set  mu  = 0.2 # again\nend\n' >twice.prm
 check entry-set-twice 2 "entry 'Rheology/mu': is set on line 3 and again on line 4" \
   "$GRANFLOW" run twice.prm --output keep --quiet
+# ... while what deal.II accepts still runs: END in upper case, and a comment whose trailing
+# backslash continues it over the next line (deal.II joins lines before it strips comments).
+sed -e 's/^end$/END/' -e 's/^\( *set mu = 0\)$/\1\n  # friction, see \\\n  set mu = 0.3/' "$case_file" >continued.prm
+check continued-comment-and-upper-case-end 0 "Results in continued" "$GRANFLOW" run continued.prm \
+  --output continued --quiet --set "Output/Write vtu=false"
 check unknown-set-entry 2 "--set Rheology/Friction=0.5: unknown entry 'Rheology/Friction'" "$GRANFLOW" run \
   "$case_file" --output keep --quiet --set "Rheology/Friction=0.5"
 bad mu-negative "mu" --set "Rheology/mu=-0.1"

@@ -358,12 +358,13 @@ TEST(ConeSolverStop, TheTimeLimitEndsAnInnerSolve)
     }
 }
 
-TEST(ConeSolverStop, TheInteriorPointStartsNoIterationThatWouldEndPastTheTimeLimit)
+TEST(ConeSolverStop, PredictionEndsWhereTheNextIterationWouldEndPastTheTimeLimit)
 {
   // The interior point's iterations (one factorisation each) cannot be interrupted, so its loop
-  // asks SolveMonitor::finished(true), which ends where the next iteration, at the last one's
-  // duration (at the first, the setup's), would end past Solver/Max seconds. Elapsed times are
-  // given, not measured, so that the test does not depend on the machine.
+  // asks SolveMonitor::finished(true) (cone_interior_point.cc), which ends where the next
+  // iteration, at the last one's duration (at the first, the setup's), would end past Solver/Max
+  // seconds. Elapsed times are given, not measured, so that the test does not depend on the
+  // machine.
   ConeSolverOptions options;
   options.tolerance   = 1e-300;
   options.max_seconds = 10.;
@@ -391,6 +392,14 @@ TEST(ConeSolverStop, TheInteriorPointStartsNoIterationThatWouldEndPastTheTimeLim
           ++stats.outer_iterations;
         }
     }
+  // At the first iterate the setup's duration is the prediction: 6 s of setup, 6 + 6 > 10.
+  {
+    ConeSolverStats      stats;
+    detail::SolveMonitor monitor(options, stats);
+    monitor.record(1., 6.);
+    EXPECT_TRUE(monitor.finished(true));
+    EXPECT_TRUE(stats.timed_out);
+  }
   // Without a limit nothing times out, however long an iteration takes.
   options.max_seconds = 0.;
   ConeSolverStats      stats;

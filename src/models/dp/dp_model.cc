@@ -45,9 +45,15 @@ namespace granflow::dp
     constexpr unsigned int s_d = rheology::n_sym<dim>; // 3 components per constraint point
     using SymVector            = rheology::SymVector<dim>;
 
-    /// The entries of Boundary conditions that fix velocity components, for messages.
-    const std::string velocity_condition_entries = "No-slip, Zero x-velocity, Zero y-velocity, "
-                                                   "Zero normal velocity, Zero tangential velocity";
+    /// "No-slip, Zero x-velocity, ...": the velocity conditions' entries, for messages.
+    std::string
+    velocity_condition_entries(const BoundaryParameters &bc)
+    {
+      std::string list;
+      for (const auto &condition : bc.velocity_conditions())
+        list += (list.empty() ? "" : ", ") + std::string(condition.second);
+      return list;
+    }
 
     /// Symmetric 3-point rule exact for degree 2 with positive weights (DESIGN.md): the
     /// constraint points of the P1d stress, so that R is square and invertible per element.
@@ -420,11 +426,11 @@ namespace granflow::dp
             where << " on the part of the mesh around (" << centre[0] << ", " << centre[1] << ") ("
                   << cells.size() << " of " << mesh.triangulation.n_active_cells()
                   << " triangles, joined to the rest by no edge)";
-          // Named as the whole subsection: any of its velocity conditions can fix the motion
-          // (naming No-slip confused a user whose No-slip entry was empty).
+          // Named as the whole subsection: any of its velocity conditions can fix the motion.
           throw InputError(prm.case_file, "Boundary conditions",
-                           "with its velocity conditions (" + velocity_condition_entries + ") " +
-                               what.str() + where.str() +
+                           "with its velocity conditions (" +
+                               velocity_condition_entries(prm.boundaries) + ") " + what.str() +
+                               where.str() +
                                " (A is singular): expected velocity conditions that fix both "
                                "translations and the rotation of every part of the mesh");
         }
@@ -729,12 +735,7 @@ namespace granflow::dp
       const auto &bc = prm.boundaries;
       // A name in two velocity conditions is a contradiction or a typo.
       std::map<types::boundary_id, const char *>                      condition_of;
-      const std::vector<std::pair<const std::string *, const char *>> conditions = {
-          {&bc.no_slip, "No-slip"},
-          {&bc.zero_x_velocity, "Zero x-velocity"},
-          {&bc.zero_y_velocity, "Zero y-velocity"},
-          {&bc.zero_normal_velocity, "Zero normal velocity"},
-          {&bc.zero_tangential_velocity, "Zero tangential velocity"}};
+      const auto conditions = bc.velocity_conditions();
       for (const auto &[list, entry] : conditions)
         for (const std::string &name : split_list(*list))
           if (const auto [it, fresh] = condition_of.emplace(
@@ -937,7 +938,8 @@ namespace granflow::dp
       catch (const solvers::NotPositiveDefinite &)
         {
           throw InputError(prm.case_file, "Boundary conditions",
-                           "its velocity conditions (" + velocity_condition_entries +
+                           "its velocity conditions (" +
+                               velocity_condition_entries(prm.boundaries) +
                                ") leave a rigid motion of the velocity free (A is singular): "
                                "expected velocity conditions that fix both translations and the "
                                "rotation");
@@ -1223,12 +1225,14 @@ namespace granflow::dp
       S["case"]         = prm.name;
       S["case_file"]    = prm.case_file;
       S["model"]        = "dp";
-      // Daviet (23): every quantity here is dimensionless in these units (L the case's length
-      // unit, g gravity, rho the density); 2D, so fluxes and forces are per unit depth.
+      // Daviet (23): the results are dimensionless in these units (L the case's length unit, g
+      // gravity, rho the density; the timings are in seconds); 2D, so fluxes and forces are per
+      // unit depth.
       S["units"]        = {{"length", "L"},
                            {"velocity", "sqrt(g L)"},
                            {"stress", "rho g L"},
                            {"volume_outflow", "L sqrt(g L) per unit depth"},
+                           {"dilation_rate", "L sqrt(g L) per unit depth"},
                            {"force", "rho g L^2 per unit depth"}};
       S["rheology"]     = {{"mu", prm.rheology.mu}, {"Bi", prm.rheology.Bi}, {"Re", prm.rheology.Re},
                            {"b", prm.rheology.b}, {"viscosity", prm.rheology.viscosity}};
@@ -1436,15 +1440,13 @@ namespace granflow::dp
           S["boundary_rigid_fraction"] = rigid_fraction;
           if (rigid_fraction > 0.1)
             {
-              // A warning, in summary.json too, since session 14: as a note in the log only, a
-              // user reading the silo wall's force in summary.json did not see it.
+              // a warning, so that summary.json, where the force is read, says it too
               std::ostringstream w;
               w << std::setprecision(3) << 100. * rigid_fraction
                 << " % of the constraint points next to '" << prm.output.drag_boundary
                 << "' are rigid; the stress in a rigid zone is not unique (only the velocity is, "
                    "Daviet 4.4.4), so boundary_force and drag are not determined by the model "
-                   "there and depend on the solver (the silo's wall: vertical force +8.7 by the "
-                   "interior point, -5.8 by the fixed point)";
+                   "there and depend on the solver";
               warn(w.str());
             }
           // The trace of the stress field, lambda n = (lambda_xx n_x + lambda_xy n_y) with lambda =

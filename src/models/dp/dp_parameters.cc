@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 #include "core/parameters.h"
+#include "geometry/geometry.h"
 #include "solvers/cone_problem.h"
 
 #include <cmath>
@@ -296,33 +297,34 @@ namespace granflow::dp
     const GeometryParameters &g = geometry, defaults{};
     const std::string        &s = g.shape;
     const bool channel = s == "channel", cylinder = s == "cylinder channel", file = s == "file";
+    namespace names = granflow::geometry::entry;
     const struct
     {
       const char *entry;
       double      value, default_value;
       bool        used;
     } entries[] = {
-        {"Mesh size", g.mesh_size, defaults.mesh_size, !file},
-        {"Channel length", g.channel_length, defaults.channel_length, channel || cylinder},
-        {"Channel width", g.channel_width, defaults.channel_width, channel || cylinder},
-        {"Cylinder diameter", g.cylinder_diameter, defaults.cylinder_diameter, cylinder},
-        {"Patch size", g.patch_size, defaults.patch_size, s == "square patch"},
-        {"Silo width", g.silo_width, defaults.silo_width, s == "half silo"},
-        {"Silo height", g.silo_height, defaults.silo_height, s == "half silo"},
-        {"Aperture", g.aperture, defaults.aperture, s == "half silo"},
-        {"Outlet extension", g.outlet_extension, defaults.outlet_extension, s == "half silo"}};
+        {names::mesh_size, g.mesh_size, defaults.mesh_size, !file},
+        {names::length, g.channel_length, defaults.channel_length, channel || cylinder},
+        {names::width, g.channel_width, defaults.channel_width, channel || cylinder},
+        {names::diameter, g.cylinder_diameter, defaults.cylinder_diameter, cylinder},
+        {names::size, g.patch_size, defaults.patch_size, s == "square patch"},
+        {names::silo_width, g.silo_width, defaults.silo_width, s == "half silo"},
+        {names::silo_height, g.silo_height, defaults.silo_height, s == "half silo"},
+        {names::aperture, g.aperture, defaults.aperture, s == "half silo"},
+        {names::outlet_extension, g.outlet_extension, defaults.outlet_extension, s == "half silo"}};
     std::vector<std::string> messages;
     for (const auto &e : entries)
       if (!e.used && e.value != e.default_value)
         {
           std::ostringstream m;
-          m << "Geometry/" << e.entry << " = " << e.value
-            << " is not used by Geometry/Shape = " << s << " and has no effect on this run"
+          m << e.entry << " = " << e.value << " is not used by Geometry/Shape = " << s
+            << " and has no effect on this run"
             << (file ? " (the mesh is Geometry/Mesh file's, refined by Global refinements)" : "");
           messages.push_back(m.str());
         }
     if (!file && !g.mesh_file.empty())
-      messages.push_back("Geometry/Mesh file = " + g.mesh_file +
+      messages.push_back(std::string(names::mesh_file) + " = " + g.mesh_file +
                          " is not used by Geometry/Shape = " + s +
                          " and has no effect on this run (set Shape = file to use it)");
     return messages;

@@ -9,6 +9,7 @@
 #include "solvers/cone_problem.h"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace granflow::dp
@@ -48,6 +49,17 @@ namespace granflow::dp
     std::string zero_tangential_velocity; // u . t = 0, normal traction as given (default 0)
     std::string external_pressure; // "name: p_ext, ...": traction sigma_ext n = -p_ext n (21)
     std::string analytic_traction; // "name, ...": traction of the case's analytic reference
+
+    /// The velocity conditions: each one's boundary list and its entry (in Boundary conditions).
+    std::vector<std::pair<const std::string *, const char *>>
+    velocity_conditions() const
+    {
+      return {{&no_slip, "No-slip"},
+              {&zero_x_velocity, "Zero x-velocity"},
+              {&zero_y_velocity, "Zero y-velocity"},
+              {&zero_normal_velocity, "Zero normal velocity"},
+              {&zero_tangential_velocity, "Zero tangential velocity"}};
+    }
   };
 
   struct SolverParameters

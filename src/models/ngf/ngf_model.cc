@@ -1108,7 +1108,7 @@ namespace granflow::ngf
         }
       // An element larger than the cooperativity length (24) does not resolve the fluidity
       // equation (23): with linear elements its matrix (xi^2 stiffness plus consistent mass) loses
-      // the sign pattern that keeps g >= 0 once h exceeds about sqrt(6) xi (1D), the Newton
+      // the sign pattern that keeps g >= 0 once h exceeds sqrt(6) xi (1D), the Newton
       // corrections drive g below 0 beside the band, the projection onto g >= 0 cuts the steps,
       // and Newton fails as the flow starts (shear column, default parameters: h/d = 2.5 runs, 3
       // and 4 fail; at h/d = 1/3 a cap of 0.2 d runs and 0.1 d fails). points holds the last
@@ -1119,13 +1119,18 @@ namespace granflow::ngf
           xi_min = std::min(xi_min, point.xi);
       // the annulus's height has elements of its own size (Parameters::scales)
       const double h = column || row ? scale.h : std::max(scale.h, scale.H / scale.n_2);
-      if (!loading && prm.solver.fluidity != "local" && h > 2. * xi_min)
-        s << std::setprecision(3) << "; the element size h = " << h / scale.d << " d is "
-          << h / xi_min << " times the smallest cooperativity length xi = " << xi_min / scale.d
-          << " d (Henann (24)), so the mesh does not resolve the fluidity equation (23): its "
-             "Newton corrections drive g below 0 beside the band (with linear elements g stays "
-             ">= 0 only for h below about 2.4 xi); refine Geometry/Element size (the paper uses "
-             "h/d = 1/3) or raise Material/Cooperativity length cap";
+      if (!loading && prm.solver.fluidity != "local" && h > std::sqrt(6.) * xi_min)
+        {
+          s << std::setprecision(3) << "; the element size h = " << h / scale.d << " d is "
+            << h / xi_min << " times the smallest cooperativity length xi = " << xi_min / scale.d
+            << " d (Henann (24)), so the mesh does not resolve the fluidity equation (23): its "
+               "Newton corrections drive g below 0 beside the band (with linear elements g stays "
+               ">= 0 only for h below about sqrt(6) xi = 2.4 xi); refine Geometry/Element size "
+               "(the paper uses h/d = 1/3)";
+          // the cap (footnote ||) bounds xi only where it is what makes xi small
+          if (xi_min >= 0.99 * prm.material.nonlocal.xi_cap_over_d * scale.d)
+            s << " or raise Material/Cooperativity length cap (" << xi_min / scale.d << " d here)";
+        }
       return s.str();
     }
 
