@@ -1411,12 +1411,36 @@ namespace granflow::dp
 
       // U_infinity is the inflow's mean speed on any mesh, positive into the domain.
       double U_inf = 0., inflow_u_x = 0.;
+      bool   inflow_reversed = false; // material leaves through Output/Inflow boundary
       if (!prm.output.inflow_boundary.empty())
         {
           const auto &inflow = flux_of.at(mesh.id(prm.output.inflow_boundary, prm.case_file));
           U_inf           = -inflow.flux / inflow.length;
           inflow_u_x      = inflow.mean_u_x;
           S["U_infinity"] = U_inf;
+          // Material leaving through the named inflow boundary (the flow runs the other way):
+          // U_infinity measured there is the outflow's, which the material's dilation makes
+          // larger than the inflow's (1.66 times in the mirrored cylinder channel), so Fr and C_D
+          // would be wrong with exit 0; they are null, and the boundary where it enters is named.
+          if (U_inf < -1e-5 * prm.rheology.Re)
+            {
+              std::string entering;
+              double      least = 0.;
+              for (const auto &[name, id] : mesh.boundary_ids)
+                if (flux_of.at(id).flux < least)
+                  least = flux_of.at(id).flux, entering = name;
+              std::ostringstream w;
+              w << std::setprecision(4) << "Output/Inflow boundary = '"
+                << prm.output.inflow_boundary << "': the material leaves through it (volume flux "
+                << inflow.flux
+                << " out), so U_infinity there is an outflow's; Froude and drag_coefficient are "
+                   "null"
+                << (entering.empty() ? std::string()
+                                     : "; the material enters through '" + entering +
+                                           "': set Output/Inflow boundary = " + entering);
+              warn(w.str());
+              inflow_reversed = true;
+            }
         }
       if (!prm.output.drag_boundary.empty())
         {
@@ -1527,7 +1551,12 @@ namespace granflow::dp
               {"x", along * peak_x},
               {"mean_pressure", peak_p},
               {"distance_from_cylinder_over_D", (-peak_x - R) / (2. * R)}};
-          if (!prm.output.inflow_boundary.empty())
+          if (inflow_reversed)
+            {
+              S["Froude"]           = nullptr;
+              S["drag_coefficient"] = nullptr;
+            }
+          else if (!prm.output.inflow_boundary.empty())
             {
               const double D = prm.geometry.cylinder_diameter;
               S["Froude"]    = std::abs(U_inf) / std::sqrt(D);
