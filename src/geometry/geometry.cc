@@ -102,9 +102,10 @@ namespace granflow::geometry
                            why);
     }
 
-    /// h > 0, and not so small that the domain of area `area` gets more than max_cells triangles.
+    /// h > 0, and not so small that the domain of area `area` gets more than max_cells triangles;
+    /// then tells mesh.before_meshing the estimate.
     void
-    check_mesh_size(double h, double area, const std::string &source)
+    check_mesh_size(Mesh &mesh, double h, double area, const std::string &source)
     {
       require_positive(h, entry::mesh_size, source);
       const double equilateral_area = std::sqrt(3.) / 4.;
@@ -115,6 +116,8 @@ namespace granflow::geometry
                          str(h) + " is out of range: expected a number in [" + str(h_min) +
                            ", inf) (a smaller size gives more than " + str(max_cells) +
                            " triangles)");
+      if (mesh.before_meshing)
+        mesh.before_meshing(area / (equilateral_area * h * h));
     }
 
     /// Undirected edge between two vertices.
@@ -477,7 +480,7 @@ namespace granflow::geometry
   {
     require_positive(length, entry::length, source);
     require_positive(width, entry::width, source);
-    check_mesh_size(h, length * width, source);
+    check_mesh_size(mesh, h, length * width, source);
 
     with_gmsh(source, entry::mesh_size, "meshing the channel", [&] {
       gmsh::model::add("channel");
@@ -504,7 +507,7 @@ namespace granflow::geometry
                     const std::string &source)
   {
     require_positive(size, entry::size, source);
-    check_mesh_size(h, size * size, source);
+    check_mesh_size(mesh, h, size * size, source);
 
     with_gmsh(source, entry::mesh_size, "meshing the square patch", [&] {
       gmsh::model::add("square_patch");
@@ -542,7 +545,7 @@ namespace granflow::geometry
       throw InputError(source,
                        entry::outlet_extension,
                        str(extension) + " is out of range: expected a number in [0, inf)");
-    check_mesh_size(h, W * H + D / 2 * extension, source);
+    check_mesh_size(mesh, h, W * H + D / 2 * extension, source);
 
     with_gmsh(source, entry::mesh_size, "meshing the half-silo", [&] {
       gmsh::model::add("half_silo");
@@ -622,7 +625,7 @@ namespace granflow::geometry
                   "so that the cylinder fits in the channel",
                   source);
     // Counts the zone within D of the cylinder, meshed up to three times finer, nine times.
-    check_mesh_size(h,
+    check_mesh_size(mesh, h,
                     length * width + 8 * std::min(length * width, 2 * dealii::numbers::PI * D * D),
                     source);
 

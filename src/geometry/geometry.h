@@ -11,6 +11,7 @@
 
 #include <deal.II/grid/tria.h>
 
+#include <functional>
 #include <map>
 #include <string>
 
@@ -43,6 +44,10 @@ namespace granflow::geometry
     /// Boundary name -> why this mesh lacks it, for id()'s error (the half silo without an outlet
     /// extension has no outlet_wall).
     std::map<std::string, std::string> absent_boundary_notes;
+
+    /// If set, called by a generator before Gmsh meshes, with its estimate of the number of
+    /// triangles (Gmsh says nothing while it meshes, which takes minutes for millions).
+    std::function<void(double triangles)> before_meshing;
 
     /// The id of boundary `name`. Throws InputError naming `context_file` (the case that needs the
     /// boundary), the `entry` that names it (if given), `name` and the names this mesh has.

@@ -679,24 +679,17 @@ namespace granflow::dp
       const auto &f   = prm.case_file;
       for (const auto &message : prm.ignored_geometry_entries())
         warn(message);
-      // Gmsh says nothing while it meshes; a fine mesh (1.5 million triangles at Mesh size 0.01
-      // on the silo) took minutes without a line on the console.
-      {
-        const double area      = g.shape == "channel" || g.shape == "cylinder channel"
-                                     ? g.channel_length * g.channel_width
-                                 : g.shape == "square patch" ? g.patch_size * g.patch_size
-                                 : g.shape == "half silo"    ? g.silo_width * g.silo_height +
-                                                           0.5 * g.aperture * g.outlet_extension
-                                                          : 0.;
-        const double triangles = area / (std::sqrt(3.) / 4. * g.mesh_size * g.mesh_size);
-        if (triangles > 2e5 && triangles <= 1e7) // above 1e7 the generators refuse the size
+      // A fine mesh (1.5 million triangles at Mesh size 0.01 on the silo) took minutes without a
+      // line on the console.
+      mesh.before_meshing = [&](const double triangles) {
+        if (triangles > 2e5)
           {
             std::ostringstream s;
             s << std::setprecision(2) << "meshing the " << g.shape << ": about " << triangles
               << " triangles at Geometry/Mesh size = " << g.mesh_size << "\n";
             log.print(s.str());
           }
-      }
+      };
       if (g.shape == "channel")
         geometry::make_channel(mesh, g.channel_length, g.channel_width, g.mesh_size, msh, f);
       else if (g.shape == "square patch")
@@ -1409,8 +1402,12 @@ namespace granflow::dp
         S["dilation_rate"] = dilation;
       }
 
-      // U_infinity is the inflow's mean speed on any mesh, positive into the domain.
-      double U_inf = 0., inflow_u_x = 0.;
+      // U_infinity is the inflow's mean speed on any mesh, positive into the domain. Below
+      // jammed_speed the channel is jammed: 1e-5 Re sqrt(g L) (velocities scale with Re, (23));
+      // at the sweep's Re = 100 that is 1e-3, as in scripts/cylinder_drag_sweep.sh (its jammed
+      // channels creep at the solver's accuracy in u, its slowest flowing one has 0.43).
+      const double jammed_speed = 1e-5 * prm.rheology.Re;
+      double       U_inf = 0., inflow_u_x = 0.;
       bool   inflow_reversed = false; // material leaves through Output/Inflow boundary
       if (!prm.output.inflow_boundary.empty())
         {
@@ -1422,7 +1419,7 @@ namespace granflow::dp
           // U_infinity measured there is the outflow's, which the material's dilation makes
           // larger than the inflow's (1.66 times in the mirrored cylinder channel), so Fr and C_D
           // would be wrong with exit 0; they are null, and the boundary where it enters is named.
-          if (U_inf < -1e-5 * prm.rheology.Re)
+          if (U_inf < -jammed_speed)
             {
               std::string entering;
               double      least = 0.;
@@ -1505,12 +1502,9 @@ namespace granflow::dp
             return;
           // The flow runs along +x or -x, as u_x does through the inflow boundary (whichever
           // end of the channel that is, and whichever way through it): the wake is behind the
-          // cylinder along the flow. A jammed channel has no direction and no dynamic pressure to
-          // scale C_D by: |U_inf| below 1e-5 Re sqrt(g L) (velocities scale with Re, (23)); at the
-          // sweep's Re = 100 that is 1e-3, as in scripts/cylinder_drag_sweep.sh (its jammed
-          // channels creep at the solver's accuracy in u, its slowest flowing one has 0.43).
-          const bool jammed =
-              !prm.output.inflow_boundary.empty() && std::abs(U_inf) < 1e-5 * prm.rheology.Re;
+          // cylinder along the flow. A jammed channel (|U_inf| below jammed_speed) has no
+          // direction and no dynamic pressure to scale C_D by.
+          const bool jammed = !prm.output.inflow_boundary.empty() && std::abs(U_inf) < jammed_speed;
           const double along  = inflow_u_x < 0. && !jammed ? -1. : 1.;
           // The wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
           // divergence; the pressure peak on the centreline upstream (the arch) is located.
