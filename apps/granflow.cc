@@ -24,7 +24,7 @@ Usage:
 )";
 
   const char *usage_results = R"(
-Results go to DIR (default results/<case name>): solution.pvd (open in ParaView),
+Results go to DIR (default results/<case file name without .prm>): solution.pvd (open in ParaView),
 summary.json, profiles/*.csv, log.txt. Plot a profile with scripts/plot.
 
 Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far kept),

@@ -258,6 +258,12 @@ namespace granflow::solvers
             if (step == 0. || short_steps == 5 || stats.outer_iterations - progress_iteration >= 50)
               {
                 stats.stalled = true;
+                stats.stall_reason =
+                    step == 0.         ? "no step kept the iterate interior (rounding)"
+                    : short_steps == 5 ? "5 successive steps were shorter than 1e-4 (the iterates "
+                                         "left the central path)"
+                                       : "50 iterations gained less than 10 % on the least "
+                                         "residual";
                 break;
               }
           }

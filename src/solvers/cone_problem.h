@@ -83,6 +83,7 @@ namespace granflow::solvers
     bool         converged            = false;
     bool         interrupted           = false; // ended by options.stop_requested
     bool         stalled               = false; // interior point: ended by its stagnation rules
+    std::string  stall_reason;                  // which of them, in words
     bool         timed_out             = false; // ended by options.max_seconds
     unsigned int outer_iterations     = 0;
     unsigned int inner_iterations     = 0; // summed over the outer iterations

@@ -31,6 +31,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
 #include <map>
 #include <set>
 #include <sstream>
@@ -1064,6 +1065,8 @@ namespace granflow::dp
                      {"viscosity_relative_change", change},
                      {"time_factorize_s", factorize_time},
                      {"time_solve_s", solve_time}};
+      if (stats.stalled)
+        solver_json["stall_reason"] = stats.stall_reason;
       if (interior_point)
         solver_json["interior_point_iterations"] = outer_total;
       else
@@ -1071,6 +1074,21 @@ namespace granflow::dp
           solver_json["inner_solver"]           = prm.solver.inner_solver;
           solver_json["fixed_point_iterations"] = outer_total;
           solver_json["inner_iterations"]       = inner_total;
+        }
+      if (!stats.converged)
+        {
+          // The summary's numbers look like any other run's: say here that they are not a
+          // solution's (the exit status and the console say it too).
+          std::ostringstream w;
+          w << std::setprecision(3) << "the solver "
+            << (stats.interrupted ? "was stopped before it reached"
+                                  : (stats.timed_out ? "ran out of Solver/Max seconds before "
+                                                       "reaching"
+                                                     : "did not reach"))
+            << " its tolerance (residual " << stats.residual << ", tolerance "
+            << prm.solver.tolerance
+            << "): every result here is that of its best iterate, not of a solution";
+          warn(w.str());
         }
       postprocess(results);
       if (prm.output.write_vtu)
@@ -1090,9 +1108,9 @@ namespace granflow::dp
               << " iterations. ";
           else if (stats.stalled)
             s << " stalled at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
-              << ") after " << stats.outer_iterations
-              << " iterations: its steps fell below 1e-4 or 50 iterations gained less than 10 % "
-                 "(docs/solvers.md), which higher limits do not change; a looser Solver/Tolerance, "
+              << ") after " << stats.outer_iterations << " iterations: " << stats.stall_reason
+              << " (docs/solvers.md), which higher limits do not change; a looser "
+                 "Solver/Tolerance, "
                  "another mesh or Solver/Method = fixed point may. ";
           else if (stats.timed_out)
             s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds

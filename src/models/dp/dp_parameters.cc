@@ -167,7 +167,7 @@ namespace granflow::dp
                         Interval::positive());
       prm.add_parameter("Dump cone problem", s.dump_cone_problem,
                         "If set, the cone problem is written to this file in the output directory "
-                        "(replay with bench/replay_cone_problem).",
+                        "(replay with build/bench/replay_cone_problem, docs/solvers.md).",
                         Anything());
     }
     prm.leave_subsection();

@@ -141,6 +141,12 @@ namespace granflow::ngf
       newton_failure(bool loading, double dt, double du, double u_wall) const;
       Vector<double>
       increment_rate(double dt) const;
+      /// The wall-parallel velocity that steadiness is judged on, per dof (0 elsewhere): v_x of the
+      /// column, r dtheta/dt of the quad section, and for the slice (v_r, r dphi/dt) of each node
+      /// from the increment's rate, which a steady flow keeps as its nodes turn about z (their
+      /// Cartesian velocities turn with them: by the angle turned, 0.007 over 0.4 degrees).
+      Vector<double>
+      steady_velocity(const Vector<double> &v, const Vector<double> &rate) const;
       void
       write_histories(const std::vector<double> &wall_displacement,
                       const std::vector<double> &mu_wall,
@@ -176,6 +182,10 @@ namespace granflow::ngf
       std::vector<NewtonRecord>                               newton_log;
       std::vector<unsigned int> dof_component; // 0-2 displacement-type, 3: g
       double                    assembly_seconds = 0., solve_seconds = 0.;
+      // Sum over all nodes of the bulk part of the fluidity residual (34)_2 at the last assembly,
+      // int (g - g_loc) / xi^2 dv (sum_A N^A = 1, sum_A grad N^A = 0): at a steady state, the net
+      // fluidity that the boundary conditions feed into the body (negative: they take it out).
+      double                                        boundary_fluidity_supply = 0.;
       SparseDirectUMFPACK       factorization; // of the last Jacobian
       bool                      factorization_valid = false;
       std::vector<Point<dim>>   dof_point; // reference position of each dof
@@ -514,8 +524,9 @@ namespace granflow::ngf
         Vector<double>                       r_local;
         FullMatrix<double>                   J_local;
         double                               force_scale = 0., fluidity_scale = 0.;
+        double                               fluidity_supply = 0.;
       };
-      double force_scale = 0., fluidity_scale = 0.;
+      double force_scale = 0., fluidity_scale = 0., fluidity_supply = 0.;
 
       const auto worker = [&](const typename DoFHandler<dim>::active_cell_iterator &cell,
                               Scratch &scratch, Copy &copy) {
@@ -539,7 +550,7 @@ namespace granflow::ngf
         element.evaluate(shapes[c], in, with_jacobian, eo);
         points[c] = eo.points;
 
-        copy.force_scale = copy.fluidity_scale = 0.;
+        copy.force_scale = copy.fluidity_scale = copy.fluidity_supply = 0.;
         for (unsigned int a = 0; a < n_nodes; ++a)
           {
             copy.force_scale = std::max(
@@ -547,6 +558,7 @@ namespace granflow::ngf
                                             eo.magnitude[4 * a + 1] * eo.magnitude[4 * a + 1] +
                                             eo.magnitude[4 * a + 2] * eo.magnitude[4 * a + 2]));
             copy.fluidity_scale = std::max(copy.fluidity_scale, eo.magnitude[4 * a + 3]);
+            copy.fluidity_supply += eo.residual[4 * a + 3];
           }
         for (unsigned int i = 0; i < n_dofs; ++i)
           {
@@ -591,6 +603,7 @@ namespace granflow::ngf
       const auto copier = [&](const Copy &copy) {
         force_scale    = std::max(force_scale, copy.force_scale);
         fluidity_scale = std::max(fluidity_scale, copy.fluidity_scale);
+        fluidity_supply += copy.fluidity_supply;
         for (unsigned int i = 0; i < copy.dofs.size(); ++i)
           unconstrained_residual[copy.dofs[i]] += copy.r_local[i];
         if (with_jacobian)
@@ -623,7 +636,8 @@ namespace granflow::ngf
               return {r, r, 1., 1.};
           }
       n.u_scale = force_scale;
-      n.g_scale = fluidity_scale;
+      n.g_scale                = fluidity_scale;
+      boundary_fluidity_supply = fluidity_supply;
       assembly_seconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       return n;
@@ -814,9 +828,12 @@ namespace granflow::ngf
       bool                      loading = true;
       std::string               failure;                // set when an increment cannot be completed
       bool                      interrupted = false; // failure: a stop request (core/interrupt.h)
-      // Steadiness is judged over the last tenth of the run: mu_wall and v there and at the end.
-      constexpr double steady_window = 0.1, steady_mu_tolerance = 1e-3,
-                       steady_velocity_tolerance = 1e-2;
+      // Steadiness is judged over the last tenth of the run, but over at least its last 0.1 d
+      // (the default column's tenth; a tenth of a short run changes too little to tell): mu_wall
+      // and v at the window's start and at the end.
+      constexpr double steady_mu_tolerance = 1e-3, steady_velocity_tolerance = 1e-2;
+      const double     steady_window =
+          std::max(0.1 * scale.u_end, std::min(0.1 * d, scale.u_end)); // of wall displacement
       double              u_wall_window = -1., mu_wall_window = 0.;
       double              last_step = 0.; // wall displacement of the last shear increment
       Vector<double>      v_window;
@@ -861,12 +878,12 @@ namespace granflow::ngf
               u_wall += step;
               last_step = step;
               mu_wall   = wall_stress_ratio();
-              // The state at the start of the last tenth of the run, for the steadiness verdict.
-              if (u_wall_window < 0. && u_wall >= (1. - steady_window) * scale.u_end)
+              // The last state at or before the start of the window, for the steadiness verdict.
+              if (u_wall <= scale.u_end - steady_window * (1. - 1e-12))
                 {
                   u_wall_window  = u_wall;
                   mu_wall_window = mu_wall;
-                  v_window       = v;
+                  v_window       = steady_velocity(v, rate);
                 }
               h_disp.push_back(u_wall / d);
               h_mu.push_back(mu_wall);
@@ -929,28 +946,57 @@ namespace granflow::ngf
            {"iterations_per_increment", double(total_iterations) / std::max(1U, increment)},
            {"max_iterations", max_iterations},
            {"increment_cuts", cuts}};
-      // Steadiness over the last tenth of the run (the issue's "run until the velocity field and
-      // the wall stress ratio are steady"): the relative change of mu_wall and the largest change
-      // of the wall-parallel velocity, over v_wall. While the body is still loading elastically,
-      // mu_wall grows in proportion to the wall displacement, so the first test catches runs that
-      // are too short to yield.
+      // Steadiness over the window (the issue's "run until the velocity field and the wall stress
+      // ratio are steady"): the relative change of mu_wall and the largest change of the
+      // wall-parallel velocity, over v_wall. While the body is still loading elastically, mu_wall
+      // grows in proportion to the wall displacement, so the first test catches runs that are
+      // too short to yield.
       nlohmann::json steady = {{"window_over_d", 0.}, {"steady", false}};
+      std::ostringstream why_not_steady;
       if (u_wall_window >= 0. && u_wall > u_wall_window)
         {
-          double dv = 0.;
+          const Vector<double> v_end = steady_velocity(v, rate);
+          double               dv    = 0.;
           for (types::global_dof_index i = 0; i < v.size(); ++i)
-            if ((slice ? dof_component[i] < 2 : dof_component[i] == (column ? 0U : twist)))
-              dv = std::max(dv, std::abs(v[i] - v_window[i]) / scale.v_wall);
+            dv = std::max(dv, std::abs(v_end[i] - v_window[i]) / scale.v_wall);
           const double dmu = std::abs(mu_wall - mu_wall_window) / std::abs(mu_wall);
           steady           = {{"window_over_d", (u_wall - u_wall_window) / d},
                               {"mu_wall_relative_change", dmu},
                               {"velocity_change_over_v_wall", dv},
                               {"steady", dmu <= steady_mu_tolerance && dv <= steady_velocity_tolerance}};
+          why_not_steady << std::setprecision(3) << "not steady over the last "
+                         << (u_wall - u_wall_window) / d << " d of wall displacement (of "
+                         << u_wall / d << " d): mu_wall changed by " << dmu << " of itself (limit "
+                         << steady_mu_tolerance << ") and the velocity by " << dv
+                         << " v_wall (limit " << steady_velocity_tolerance << ")";
         }
+      else if (u_wall < scale.u_end * (1. - 1e-12))
+        why_not_steady << std::setprecision(3) << "not steady: the run stopped at " << u_wall / d
+                       << " d of wall displacement, before the last " << steady_window / d
+                       << " d over which steadiness is judged";
+      else if (steady_window >= scale.u_end * (1. - 1e-12))
+        why_not_steady << std::setprecision(3) << "not steady: a run of " << scale.u_end / d
+                       << " d of wall displacement is too short to tell (steadiness compares the "
+                          "end with the state 0.1 d of wall displacement before it)";
+      else
+        why_not_steady << std::setprecision(3) << "not steady: no sheared increment ended before "
+                       << "the last " << steady_window / d
+                       << " d of wall displacement, so there is nothing to compare the end with "
+                          "(lower Solver/Max increment)";
       summary["steady_state"] = steady;
+      if (!failure.empty() && !interrupted)
+        {
+          std::ostringstream w;
+          w << std::setprecision(3)
+            << "Newton failed (see the log): the results are those of the last converged "
+               "increment, at "
+            << u_wall / d << " d of wall displacement of " << scale.u_end / d
+            << " d, not of a steady flow";
+          warn(w.str());
+        }
       if ((failure.empty() || interrupted) && !steady["steady"].get<bool>())
-        warn("not steady over the last tenth of the run (" + steady.dump() +
-             "): run further (Loading/Wall displacement or Wall rotation) before using mu_wall, "
+        warn(why_not_steady.str() +
+             ": run further (Loading/Wall displacement or Wall rotation) before using mu_wall, "
              "W/d or the profiles as steady results");
       // The implicit, first-order time integration (Section 4) gives a steady state that depends
       // on the increment: in the shear column, mu_wall is about 10 % x (increment / d) below its
@@ -961,7 +1007,7 @@ namespace granflow::ngf
         {
           std::ostringstream w;
           w << std::setprecision(3) << "the run ended on increments of " << last_step / d
-            << " d of wall displacement: the implicit time integration then biases the steady "
+            << " d of wall displacement: the implicit time integration then lowers the steady "
                "mu_wall by about "
             << 10. * last_step / d
             << " % (shear column, docs/ngf.md); lower Solver/Max increment (default 0.01) for "
@@ -971,19 +1017,27 @@ namespace granflow::ngf
       // Steady flow starts where mu >= mu_s (g_loc = 0 below it, (22)), and mu is largest at the
       // driven wall in every geometry here: below mu_s there, the mesh does not resolve the flow
       // at the wall (g = 0 there on coarse meshes, docs/ngf.md) or the body has not yielded.
-      // A fluidity boundary condition that feeds fluidity in (g_wall > 0, zeta > 0) lets the
-      // material flow below mu_s, so the test applies only without one.
+      // Fluidity fed in through the boundaries (g_wall > 0 above the fluidity beside it, zeta > 0)
+      // lets material flow below mu_s. The test therefore applies unless the boundaries feed
+      // fluidity in, in net: a g_wall below the fluidity beside the wall takes fluidity out, like
+      // g = 0, and a source elsewhere may not make up for it.
       const auto positive        = [](const auto &condition) { return condition.second > 0.; };
       const bool fluidity_source = std::any_of(g_dirichlet.begin(), g_dirichlet.end(), positive) ||
                                    std::any_of(g_neumann.begin(), g_neumann.end(), positive);
-      if (failure.empty() && !fluidity_source && mu_wall < prm.material.nonlocal.mu_s)
+      const bool fed_by_boundaries = fluidity_source && boundary_fluidity_supply > 0.;
+      if (failure.empty() && !fed_by_boundaries && mu_wall < prm.material.nonlocal.mu_s)
         {
           std::ostringstream w;
           w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
             << " at the driven wall: a steady flow needs mu >= mu_s where it starts, so either the "
-               "body has not yielded, or the mesh does not resolve the flow at the wall (a g = 0 "
-               "wall needs h well below d, docs/ngf.md: refine Geometry/Element size), or a "
-               "fluidity condition (g = 0, zeta < 0) holds the flow back";
+               "body has not yielded, or the mesh does not resolve the flow at the wall";
+          if (!g_dirichlet.empty())
+            w << " (the fluidity conditions take fluidity out of the body in net, "
+                 "as g = 0 or a g_wall below the fluidity beside the wall does: the boundary "
+                 "layer this makes needs h well below d, docs/ngf.md; refine Geometry/Element "
+                 "size)";
+          else
+            w << " (refine Geometry/Element size)";
           warn(w.str());
         }
       // The band's own warnings only for a run that reached a steady flow: before that, the
@@ -1125,11 +1179,15 @@ namespace granflow::ngf
             << h / xi_min << " times the smallest cooperativity length xi = " << xi_min / scale.d
             << " d (Henann (24)), so the mesh does not resolve the fluidity equation (23): its "
                "Newton corrections drive g below 0 beside the band (with linear elements g stays "
-               ">= 0 only for h below about sqrt(6) xi = 2.4 xi); refine Geometry/Element size "
-               "(the paper uses h/d = 1/3)";
+               ">= 0 only for h below about sqrt(6) xi = 2.4 xi); ";
           // the cap (footnote ||) bounds xi only where it is what makes xi small
           if (xi_min >= 0.99 * prm.material.nonlocal.xi_cap_over_d * scale.d)
-            s << " or raise Material/Cooperativity length cap (" << xi_min / scale.d << " d here)";
+            s << "raise Material/Cooperativity length cap (xi is at the cap, " << xi_min / scale.d
+              << " d) or refine Geometry/Element size below " << std::sqrt(6.) * xi_min / scale.d
+              << " d";
+          else
+            s << "refine Geometry/Element size below " << std::sqrt(6.) * xi_min / scale.d
+              << " d (the paper uses h/d = 1/3)";
         }
       return s.str();
     }
@@ -1155,6 +1213,24 @@ namespace granflow::ngf
               rate[i + 1] = std::remainder(std::atan2(y1, x1) - std::atan2(y0, x0), 2. * M_PI) / dt;
             }
       return rate;
+    }
+
+    template <int dim>
+    Vector<double>
+    Problem<dim>::steady_velocity(const Vector<double> &v, const Vector<double> &rate) const
+    {
+      Vector<double> w(v.size());
+      for (types::global_dof_index i = 0; i < v.size(); ++i)
+        if (slice && dof_component[i] == 0)
+          {
+            // x and y dofs of a node are adjacent; rate holds (dr/dt, dphi/dt) there
+            const Point<dim> &X = dof_point[i];
+            w[i]                = rate[i];
+            w[i + 1]            = std::hypot(X[0] + U[i], X[1] + U[i + 1]) * rate[i + 1];
+          }
+        else if (!slice && dof_component[i] == (column ? 0U : twist))
+          w[i] = v[i];
+      return w;
     }
 
     /// history.csv (per increment) and newton.csv (per Newton iterate).
@@ -1373,9 +1449,9 @@ namespace granflow::ngf
               {"mu_wall", profile.mu_wall},
               {"shear_band_width_over_d", profile.shear_band_width / d},
               {"max_velocity_difference_over_v_wall", worst},
-              {"mu_wall_relative_difference", std::abs(mu_wall / profile.mu_wall - 1.)},
-              {"shear_band_width_relative_difference",
-               std::abs(W / (profile.shear_band_width / d) - 1.)}};
+              // signed: (FE - FD) / FD
+              {"mu_wall_relative_difference", mu_wall / profile.mu_wall - 1.},
+              {"shear_band_width_relative_difference", W / (profile.shear_band_width / d) - 1.}};
         }
       out.write_csv("profiles/velocity.csv", header, columns);
 

@@ -269,7 +269,7 @@ namespace granflow::ngf
         (geometry.shape == "annulus" || geometry.shape == "annulus slice"))
       throw InputError(
           f, "Output/Reference",
-          "= finite difference has no 1D reduction for the annulus with gravity: expected none");
+          "'finite difference' has no 1D reduction for the annulus with gravity: expected none");
     if (solver.fluidity == "local" &&
         !(fluidity_bc.dirichlet.empty() && fluidity_bc.neumann.empty()))
       throw InputError(
