@@ -1086,7 +1086,7 @@ namespace granflow::dp
                                                        "reaching"
                                                      : "did not reach"))
             << " its tolerance (residual " << stats.residual << ", tolerance "
-            << prm.solver.tolerance
+            << prm.solver.tolerance << (stats.stalled ? "; it stalled: " : "") << stats.stall_reason
             << "): every result here is that of its best iterate, not of a solution";
           warn(w.str());
         }

@@ -183,8 +183,9 @@ namespace granflow::ngf
       std::vector<unsigned int> dof_component; // 0-2 displacement-type, 3: g
       double                    assembly_seconds = 0., solve_seconds = 0.;
       // Sum over all nodes of the bulk part of the fluidity residual (34)_2 at the last assembly,
-      // int (g - g_loc) / xi^2 dv (sum_A N^A = 1, sum_A grad N^A = 0): at a steady state, the net
-      // fluidity that the boundary conditions feed into the body (negative: they take it out).
+      // int (g - g_loc) / xi^2 dv (sum_A N^A = 1, sum_A grad N^A = 0): at a converged state, the
+      // net fluidity that the boundary conditions feed into the body (negative: they take it
+      // out; (23) has no time derivative).
       double                                        boundary_fluidity_supply = 0.;
       SparseDirectUMFPACK       factorization; // of the last Jacobian
       bool                      factorization_valid = false;
@@ -953,7 +954,8 @@ namespace granflow::ngf
       // too short to yield.
       nlohmann::json steady = {{"window_over_d", 0.}, {"steady", false}};
       std::ostringstream why_not_steady;
-      if (u_wall_window >= 0. && u_wall > u_wall_window)
+      const bool         completed = u_wall >= scale.u_end * (1. - 1e-12);
+      if (completed && u_wall_window >= 0.)
         {
           const Vector<double> v_end = steady_velocity(v, rate);
           double               dv    = 0.;
@@ -970,7 +972,7 @@ namespace granflow::ngf
                          << steady_mu_tolerance << ") and the velocity by " << dv
                          << " v_wall (limit " << steady_velocity_tolerance << ")";
         }
-      else if (u_wall < scale.u_end * (1. - 1e-12))
+      else if (!completed)
         why_not_steady << std::setprecision(3) << "not steady: the run stopped at " << u_wall / d
                        << " d of wall displacement, before the last " << steady_window / d
                        << " d over which steadiness is judged";
@@ -979,25 +981,35 @@ namespace granflow::ngf
                        << " d of wall displacement is too short to tell (steadiness compares the "
                           "end with the state 0.1 d of wall displacement before it)";
       else
-        why_not_steady << std::setprecision(3) << "not steady: no sheared increment ended before "
-                       << "the last " << steady_window / d
-                       << " d of wall displacement, so there is nothing to compare the end with "
-                          "(lower Solver/Max increment)";
+        why_not_steady << std::setprecision(3) << "not steady: the run is barely longer than the "
+                       << steady_window / d
+                       << " d of wall displacement over which steadiness is judged (its first "
+                          "increment reaches into them)";
       summary["steady_state"] = steady;
       if (!failure.empty() && !interrupted)
         {
           std::ostringstream w;
-          w << std::setprecision(3)
-            << "Newton failed (see the log): the results are those of the last converged "
-               "increment, at "
-            << u_wall / d << " d of wall displacement of " << scale.u_end / d
-            << " d, not of a steady flow";
+          w << std::setprecision(3) << "Newton failed (see the log): ";
+          if (loading)
+            w << "no increment converged, not even the loading step (gravity and wall pressure "
+                 "with the wall at rest); the fields are the unloaded start";
+          else if (u_wall == 0.)
+            w << "the results are those of the loaded body at rest, before any shear";
+          else
+            w << "the results are those of the last converged increment, at " << u_wall / d
+              << " d of wall displacement of " << scale.u_end / d << " d, not of a steady flow";
           warn(w.str());
         }
       if ((failure.empty() || interrupted) && !steady["steady"].get<bool>())
         warn(why_not_steady.str() +
-             ": run further (Loading/Wall displacement or Wall rotation) before using mu_wall, "
-             "W/d or the profiles as steady results");
+             (interrupted ? ": rerun it to the end before using mu_wall, W/d or the profiles as "
+                            "steady results"
+              : slice     ? ": run further (Loading/Wall rotation) before using mu_wall, W/d or "
+                            "the profiles as steady results; beyond about 6 degrees the slice "
+                            "drifts from the quad section (docs/ngf.md), which is the one for "
+                            "long runs"
+                          : ": run further (Loading/Wall displacement or Wall rotation) before "
+                            "using mu_wall, W/d or the profiles as steady results"));
       // The implicit, first-order time integration (Section 4) gives a steady state that depends
       // on the increment: in the shear column, mu_wall is about 10 % x (increment / d) below its
       // increment-converged value (-0.08 % at the default 0.01 d, -0.5 % at 0.05 d, -2.3 % at
@@ -1031,7 +1043,7 @@ namespace granflow::ngf
           w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
             << " at the driven wall: a steady flow needs mu >= mu_s where it starts, so either the "
                "body has not yielded, or the mesh does not resolve the flow at the wall";
-          if (!g_dirichlet.empty())
+          if (boundary_fluidity_supply < 0.)
             w << " (the fluidity conditions take fluidity out of the body in net, "
                  "as g = 0 or a g_wall below the fluidity beside the wall does: the boundary "
                  "layer this makes needs h well below d, docs/ngf.md; refine Geometry/Element "
