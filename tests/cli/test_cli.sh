@@ -435,6 +435,15 @@ check ngf-g-zero-wall-weak-source-below-mu-s 0 "is below mu_s" "$GRANFLOW" run "
   --output ngf_g0_source --set "Output/Reference=none" \
   --set "Fluidity boundary conditions/Dirichlet=wall: 0" \
   --set "Fluidity boundary conditions/Neumann=bottom: 0.001"
+# Without fluidity conditions the below-mu_s warning does not blame them (the annulus row on large
+# increments, whose wall pressure falls below P_wall: the warning points to the increment size).
+check ngf-row-large-increments 0 "below it, look at the increment size" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output ngf_row_large \
+  --set "Solver/Max increment=0.5" --set "Loading/Wall rotation=20" --set "Output/Write vtu=false"
+if grep -q "is below mu_s" ngf_row_large/summary.json &&
+  ! grep -q "take fluidity out of the body" ngf_row_large/summary.json; then
+  pass "ngf below-mu_s warning without fluidity conditions"
+else fail "ngf below-mu_s warning without fluidity conditions"; fi
 # (Its band is 2.2 elements wide, which is warned about; the "below mu_s" warning must not be.)
 if [ -s ngf_source/summary.json ] && ! grep -q "is below mu_s" ngf_source/summary.json; then
   pass "ngf fluidity source: no below-mu_s warning"

@@ -1015,8 +1015,10 @@ namespace granflow::dp
                                   " before the solve: nothing was computed (" + out.target() +
                                   " has the log and the parameters)",
                               interrupt::signal_number());
-          log.phase("factorising A (" + std::to_string(n_free) + " free velocity dofs), then " +
-                    prm.solver.method + " iterations");
+          log.phase(interior_point ? "interior-point iterations (" + std::to_string(n_free) +
+                                         " free velocity dofs; each factorises its Newton matrix)"
+                                   : "factorising A (" + std::to_string(n_free) +
+                                         " free velocity dofs), then fixed-point iterations");
           const Vector<double> u_old = u;
           stats = solve_cone_problem();
           outer_total += stats.outer_iterations;

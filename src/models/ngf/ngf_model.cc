@@ -1022,8 +1022,10 @@ namespace granflow::ngf
             << " d of wall displacement: the implicit time integration then lowers the steady "
                "mu_wall by about "
             << 10. * last_step / d
-            << " % (shear column, docs/ngf.md); lower Solver/Max increment (default 0.01) for "
-               "results to 0.1 %";
+            << (column ? " % (docs/ngf.md)"
+                       : " % (the shear column's rate, docs/ngf.md; in the "
+                         "annuli it differs)")
+            << "; lower Solver/Max increment (default 0.01) for results to 0.1 %";
           warn(w.str());
         }
       // Steady flow starts where mu >= mu_s (g_loc = 0 below it, (22)), and mu is largest at the
@@ -1043,7 +1045,13 @@ namespace granflow::ngf
           w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
             << " at the driven wall: a steady flow needs mu >= mu_s where it starts, so either the "
                "body has not yielded, or the mesh does not resolve the flow at the wall";
-          if (boundary_fluidity_supply < 0.)
+          // (with homogeneous Neumann conditions only, the supply is zero to the Newton
+          // tolerance, and its sign means nothing)
+          const bool conditions =
+              !g_dirichlet.empty() ||
+              std::any_of(g_neumann.begin(), g_neumann.end(),
+                          [](const auto &condition) { return condition.second != 0.; });
+          if (conditions && boundary_fluidity_supply < 0.)
             w << " (the fluidity conditions take fluidity out of the body in net, "
                  "as g = 0 or a g_wall below the fluidity beside the wall does: the boundary "
                  "layer this makes needs h well below d, docs/ngf.md; refine Geometry/Element "
@@ -1518,9 +1526,14 @@ namespace granflow::ngf
                   std::ostringstream w;
                   w << "the mean pressure at the driven wall is " << p_wall
                     << " P_wall, not the P_wall that the steady solution of (92) assumes: "
-                       "elastic stresses of the loading remain (they relax only slowly under "
-                       "shearing: Loading/Wall rotation); mu_wall, the wall's shear stress over "
-                       "P_wall as in the paper, includes them, mu_wall_local = tau / p = "
+                    << (p_wall > 1.
+                            ? "elastic stresses of the loading remain (they relax only slowly "
+                              "under shearing: Loading/Wall rotation)"
+                            : "at the default increments it is above P_wall (elastic stresses of "
+                              "the loading that relax slowly); below it, look at the increment "
+                              "size (Solver/Max increment)")
+                    << "; mu_wall, the wall's shear stress over P_wall as in the paper, includes "
+                       "this, mu_wall_local = tau / p = "
                     << mu_wall / p_wall << " does not";
                   warn(w.str());
                 }
