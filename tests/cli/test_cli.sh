@@ -292,7 +292,19 @@ check not-converged 3 "written to" "$GRANFLOW" run "$case_file" --output nc --qu
   --set "Solver/Max outer iterations=1" --set "Solver/Max inner iterations=1" --set "Solver/Tolerance=1e-14"
 if [ -s nc/summary.json ]; then pass "not-converged keeps summary";
 else fail "not-converged summary missing"; fi
-# ... and its summary.json says that its numbers are not a solution's (its warnings were empty).
+# The Bagnold viscosity loop that runs out of iterations: exit 3, and summary.json says the run did
+# not converge (it said converged: true, with the loop's last relative change of u at 0.88).
+check viscosity-not-converged 3 "raise Solver/Viscosity iterations" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output visc --quiet --set "Solver/Viscosity iterations=2"
+if grep -q '"converged": false' visc/summary.json &&
+  grep -q "the viscosity fixed point did not converge in 2 iterations" visc/summary.json; then
+  pass "viscosity-not-converged summary"
+else fail "viscosity-not-converged summary"; fi
+# A Bingham channel near Bi = 1 whose sheared layers are thinner than the elements: the solver
+# converges, and the profile is 87 % off; the run warns.
+check bingham-layer-unresolved 0 "the mesh does not resolve it, and max_rel_error is 0.87" "$GRANFLOW" \
+  run "$case_file" --output bi099 --set "Rheology/Bi=0.99"
+# ... and its summary.json says that its numbers are not a solution's.
 if grep -q "did not reach its tolerance (residual .*every result here is that of its best iterate" \
   nc/summary.json; then pass "not-converged summary warns"
 else fail "not-converged summary warns"; fi
