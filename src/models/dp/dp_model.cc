@@ -1057,21 +1057,22 @@ namespace granflow::dp
       // The Bagnold viscosity loop ends on its tolerance or its iteration limit; the run has
       // converged only if both it and the last cone problem have.
       const bool viscosity_converged = !bagnold || change <= prm.solver.viscosity_tolerance;
-      solver_json                    = {{"method", prm.solver.method},
-                                        {"residual_kind",
+
+      solver_json = {{"method", prm.solver.method},
+                     {"residual_kind",
                       prm.rheology.Bi > 0. ? std::string("alart-curnier") : prm.solver.residual},
-                                        {"tolerance", prm.solver.tolerance},
-                                        {"converged", stats.converged && viscosity_converged},
-                                        {"cone_problem_converged", stats.converged},
-                                        {"viscosity_converged", viscosity_converged},
-                                        {"interrupted", stats.interrupted},
-                                        {"stalled", stats.stalled},
-                                        {"timed_out", stats.timed_out},
-                                        {"residual", stats.residual},
-                                        {"viscosity_iterations", viscosity_iterations},
-                                        {"viscosity_relative_change", change},
-                                        {"time_factorize_s", factorize_time},
-                                        {"time_solve_s", solve_time}};
+                     {"tolerance", prm.solver.tolerance},
+                     {"converged", stats.converged && viscosity_converged},
+                     {"cone_problem_converged", stats.converged},
+                     {"viscosity_converged", viscosity_converged},
+                     {"interrupted", stats.interrupted},
+                     {"stalled", stats.stalled},
+                     {"timed_out", stats.timed_out},
+                     {"residual", stats.residual},
+                     {"viscosity_iterations", viscosity_iterations},
+                     {"viscosity_relative_change", change},
+                     {"time_factorize_s", factorize_time},
+                     {"time_solve_s", solve_time}};
       if (stats.stalled)
         solver_json["stall_reason"] = stats.stall_reason;
       if (interior_point)
