@@ -1143,13 +1143,15 @@ namespace granflow::dp
               // and higher limits are no remedy.
               const auto  &history = stats.residual_history;
               const size_t half    = history.size() / 2;
-              const double first   = history.size() >= 20
-                                         ? *std::min_element(history.begin(), history.begin() + half)
-                                         : 0.;
-              const double second  = history.size() >= 20
-                                         ? *std::min_element(history.begin() + half, history.end())
-                                         : 0.;
-              if (!interior_point && history.size() >= 20 && second > 0.5 * first)
+              double       first = 0., second = 0.;
+              bool         stagnating = false;
+              if (!interior_point && history.size() >= 20)
+                {
+                  first      = *std::min_element(history.begin(), history.begin() + half);
+                  second     = *std::min_element(history.begin() + half, history.end());
+                  stagnating = second > 0.5 * first;
+                }
+              if (stagnating)
                 {
                   s << "; over its last " << history.size() - half
                     << " iterations the least residual fell only from " << first << " to " << second

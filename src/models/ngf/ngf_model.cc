@@ -1201,13 +1201,12 @@ namespace granflow::ngf
                "Newton corrections drive g below 0 beside the band (with linear elements g stays "
                ">= 0 only for h below about sqrt(6) xi = 2.4 xi); ";
           // the cap (footnote ||) bounds xi only where it is what makes xi small
-          if (xi_min >= 0.99 * prm.material.nonlocal.xi_cap_over_d * scale.d)
+          const bool at_cap = xi_min >= 0.99 * prm.material.nonlocal.xi_cap_over_d * scale.d;
+          if (at_cap)
             s << "raise Material/Cooperativity length cap (xi is at the cap, " << xi_min / scale.d
-              << " d) or refine Geometry/Element size below " << std::sqrt(6.) * xi_min / scale.d
-              << " d";
-          else
-            s << "refine Geometry/Element size below " << std::sqrt(6.) * xi_min / scale.d
-              << " d (the paper uses h/d = 1/3)";
+              << " d) or ";
+          s << "refine Geometry/Element size below " << std::sqrt(6.) * xi_min / scale.d << " d"
+            << (at_cap ? "" : " (the paper uses h/d = 1/3)");
         }
       return s.str();
     }
