@@ -60,13 +60,14 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
     std::sort(files.begin(), files.end());
     for (const auto &f : files)
       {
-        // The first comment line of a case file says what it is.
+        // The first comment line with text in it says what the case is.
         std::ifstream in(f);
         std::string   line, title;
         while (std::getline(in, line))
-          if (line.rfind("#", 0) == 0)
+          if (const auto text = line.find_first_not_of("# \t\r");
+              line.rfind("#", 0) == 0 && text != std::string::npos)
             {
-              title = line.substr(line.find_first_not_of("# "));
+              title = line.substr(text);
               break;
             }
         std::cout << f.string() << "\n    " << title << "\n";

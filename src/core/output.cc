@@ -61,7 +61,7 @@ namespace granflow
   OutputDirectory::~OutputDirectory()
   {
     std::error_code ec;
-    if (!committed)
+    if (!committed && !kept)
       fs::remove_all(root, ec);
   }
 

@@ -19,7 +19,7 @@ namespace granflow
     /// Creates the staging directory (and profiles/); throws InputError if it cannot, or if `path`
     /// exists and is not a directory (checked before any work, so no run is lost to it).
     explicit OutputDirectory(const std::string &path);
-    /// Removes the staging directory unless committed.
+    /// Removes the staging directory unless committed or kept.
     ~OutputDirectory();
     OutputDirectory(const OutputDirectory &) = delete;
     OutputDirectory &
@@ -29,6 +29,15 @@ namespace granflow
     /// removes the files of an earlier run there that this run did not write; other files stay.
     void
     commit();
+
+    /// For a run that produced no results: leaves the target directory as it was and keeps the
+    /// staging directory (path(), with this run's log) instead of removing it; the next run into
+    /// the same target removes it.
+    void
+    keep_staging()
+    {
+      kept = true;
+    }
 
     /// The target directory, as the user named it.
     const std::string &
@@ -67,5 +76,6 @@ namespace granflow
     std::string final_path;
     std::string root; // staging directory while running, target after commit()
     bool        committed = false;
+    bool        kept      = false;
   };
 } // namespace granflow

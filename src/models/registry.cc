@@ -46,10 +46,30 @@ namespace granflow
           summary["output_directory"] = out.target();
           return summary;
         }
+      catch (const InputError &)
+        {
+          throw; // nothing is committed: the target directory stays as it was
+        }
+      catch (const Interrupted &e)
+        {
+          if (e.results_written())
+            out.commit(); // what was written so far is kept
+          else
+            out.keep_staging(); // nothing computed: the earlier results stay (the message says)
+          throw;
+        }
       catch (const ConvergenceError &)
         {
           out.commit(); // what was written so far is kept
           throw;
+        }
+      catch (const std::exception &e)
+        {
+          // An internal error: this run's log is kept beside the target, which stays as it was.
+          out.keep_staging();
+          throw std::runtime_error(std::string(e.what()) + " (" + dir +
+                                   " was left as it was; the log of this run is " +
+                                   out.file("log.txt") + ")");
         }
     }
   } // namespace

@@ -1,6 +1,7 @@
 // Binary dump / load of a ConeProblemData, for replaying a solve offline (bench/).
 #include "solvers/cone_problem.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <stdexcept>
@@ -26,6 +27,16 @@ namespace granflow::solvers
     {
       std::uint64_t size = 0;
       in.read(reinterpret_cast<char *>(&size), sizeof(size));
+      // a corrupt size is not allocated: what is left of the stream bounds it
+      const auto here = in.tellg();
+      in.seekg(0, std::ios::end);
+      const auto end = in.tellg();
+      in.seekg(here);
+      if (!in || size > static_cast<std::uint64_t>(end - here) / sizeof(T))
+        {
+          in.setstate(std::ios::failbit);
+          return;
+        }
       v.resize(size);
       in.read(reinterpret_cast<char *>(v.data()), sizeof(T) * size);
     }
@@ -68,6 +79,9 @@ namespace granflow::solvers
     write_vector(out, data.mu);
     write_vector(out, data.Bi);
     write_vector(out, data.gamma_scale);
+    out.close();
+    if (!out)
+      throw std::runtime_error("cannot write cone problem to '" + file + "'");
   }
 
   ConeProblemData
@@ -92,6 +106,24 @@ namespace granflow::solvers
       read_vector(in, data.gamma_scale);
     if (!in)
       throw std::runtime_error("'" + file + "' is truncated");
+    // The sizes and indices the solvers rely on, so that a corrupt file is refused here rather
+    // than read out of bounds.
+    const auto valid = [](const CsrMatrix &M) {
+      if (M.row_start.size() != M.n_rows + 1 || M.row_start.front() != 0 ||
+          static_cast<std::size_t>(M.row_start.back()) != M.column.size() ||
+          M.value.size() != M.column.size())
+        return false;
+      for (std::size_t i = 0; i < M.n_rows; ++i)
+        if (M.row_start[i] > M.row_start[i + 1])
+          return false;
+      return std::all_of(M.column.begin(), M.column.end(),
+                         [&](const auto c) { return static_cast<std::uint64_t>(c) < M.n_cols; });
+    };
+    if (!valid(data.A) || !valid(data.H) || data.A.n_rows != data.A.n_cols ||
+        data.H.n_cols != data.A.n_rows || data.l.size() != data.A.n_rows ||
+        data.k.size() != data.H.n_rows || data.block_size == 0 ||
+        data.mu.size() * data.block_size != data.H.n_rows || data.Bi.size() != data.mu.size())
+      throw std::runtime_error("'" + file + "' is not a consistent cone problem (corrupt dump)");
     if (!data.gamma_scale.empty() && data.gamma_scale.size() != data.mu.size())
       throw std::runtime_error("'" + file + "' has " + std::to_string(data.gamma_scale.size()) +
                                " residual scales for " + std::to_string(data.mu.size()) +

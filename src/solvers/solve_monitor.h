@@ -6,6 +6,7 @@
 
 #include "solvers/cone_problem.h"
 
+#include <cmath>
 #include <limits>
 
 namespace granflow::solvers::detail
@@ -21,15 +22,15 @@ namespace granflow::solvers::detail
 
     /// Records the residual of the current iterate, `elapsed` seconds into the solve, in `stats`.
     /// Returns true if it is the least so far, which the caller keeps. The first iterate always
-    /// counts (even at an infinite residual, so that there is one to return), and a NaN counts
-    /// as least, so that any later residual replaces it.
+    /// counts (even at an infinite or NaN residual, so that there is one to return); a NaN never
+    /// replaces a number, and any later residual replaces a NaN.
     bool
     record(const double residual, const double elapsed)
     {
       stats.residual = residual;
       stats.residual_history.push_back(residual);
       stats.time_history.push_back(elapsed);
-      if (recorded && residual >= best_residual)
+      if (recorded && !std::isnan(best_residual) && !(residual < best_residual))
         return false;
       recorded      = true;
       best_residual = residual;

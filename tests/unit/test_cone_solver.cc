@@ -460,3 +460,26 @@ INSTANTIATE_TEST_SUITE_P(InnerSolvers,
                          ::testing::Values(InnerSolver::projected_gradient,
                                            InnerSolver::apgd,
                                            InnerSolver::spg));
+
+TEST(ConeSolverStop, ANanIterateNeverReplacesTheBestOne)
+{
+  // The solvers keep the iterate for which record() returns true and return it when they stop
+  // without converging: a NaN iterate (a diverged step) must not replace a finite one.
+  ConeSolverOptions    options;
+  ConeSolverStats      stats;
+  detail::SolveMonitor monitor(options, stats);
+  const double         nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(monitor.record(1e-2, 0.));
+  EXPECT_TRUE(monitor.record(1e-5, 1.));
+  EXPECT_FALSE(monitor.record(nan, 2.));
+  EXPECT_FALSE(monitor.record(1e-3, 3.));
+  EXPECT_EQ(monitor.least_residual(), 1e-5);
+  // A NaN first iterate is kept until any number replaces it.
+  ConeSolverStats      stats2;
+  detail::SolveMonitor monitor2(options, stats2);
+  EXPECT_TRUE(monitor2.record(nan, 0.));
+  EXPECT_TRUE(monitor2.record(nan, 1.));
+  EXPECT_TRUE(monitor2.record(0.5, 2.));
+  EXPECT_FALSE(monitor2.record(nan, 3.));
+  EXPECT_EQ(monitor2.least_residual(), 0.5);
+}

@@ -1012,9 +1012,10 @@ namespace granflow::dp
           // Nothing solved yet: a stop request ends the run here, before the factorisation.
           if (viscosity_iterations == 0 && interrupt::requested())
             throw Interrupted(std::string("stopped by ") + interrupt::signal_name() +
-                                  " before the solve: nothing was computed (" + out.target() +
-                                  " has the log and the parameters)",
-                              interrupt::signal_number());
+                                  " before the solve: nothing was computed; " + out.target() +
+                                  " was left as it was, and the log of this run is " +
+                                  out.file("log.txt"),
+                              interrupt::signal_number(), false);
           log.phase(interior_point ? "interior-point iterations (" + std::to_string(n_free) +
                                          " free velocity dofs; each factorises its Newton matrix)"
                                    : "factorising A (" + std::to_string(n_free) +
@@ -1331,6 +1332,23 @@ namespace granflow::dp
                             {{"min", rigid_D0_min}, {"max", rigid_D0_max}}}};
       S["pressure"]     = {{"min", *std::min_element(p.begin(), p.end())},
                            {"max", *std::max_element(p.begin(), p.end())}};
+      // The zones separate rigid from flowing material only down to the rigid threshold, which
+      // the tolerance sets. A loose tolerance (a stalled run's remedy) makes slowly shearing
+      // material "rigid": a silo at Solver/Tolerance = 1e-2 had its whole bulk rigid, the
+      // threshold being 22 % of its largest strain rate (the default cylinder: 2e-5). Without
+      // rigid points there is nothing to mislabel (the Bagnold layer, whose eta = abs D makes
+      // the threshold large at its free surface).
+      if (n_rigid > 0 && max_D0 > 0. && rigid_D0_max > 0.01 * max_D0)
+        {
+          std::ostringstream w;
+          w << std::setprecision(3)
+            << "the zones cannot separate rigid from slowly flowing material: 'rigid' means abs "
+               "D0 below "
+            << rigid_D0_max << ", " << 100. * rigid_D0_max / max_D0 << " % of the largest abs D0 ("
+            << max_D0 << "), because of Solver/Tolerance = " << prm.solver.tolerance
+            << "; lower the tolerance for a zone map (README, Output directory)";
+          warn(w.str());
+        }
 
       // Profile along the line of the case file.
       const Point<dim> a = parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start");

@@ -166,8 +166,9 @@ namespace granflow::dp
                         "Relative change of u that ends the eta fixed point, > 0.",
                         Interval::positive());
       prm.add_parameter("Dump cone problem", s.dump_cone_problem,
-                        "If set, the cone problem is written to this file in the output directory "
-                        "(replay with build/bench/replay_cone_problem, docs/solvers.md).",
+                        "If set, the cone problem is written to this file: a name relative to the "
+                        "output directory, or an absolute path (replay with "
+                        "build/bench/replay_cone_problem, docs/solvers.md).",
                         Anything());
     }
     prm.leave_subsection();

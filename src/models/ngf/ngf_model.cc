@@ -147,6 +147,16 @@ namespace granflow::ngf
       /// Cartesian velocities turn with them: by the angle turned, 0.007 over 0.4 degrees).
       Vector<double>
       steady_velocity(const Vector<double> &v, const Vector<double> &rate) const;
+      /// The speed parallel to the driven wall at the node whose first dof (x or r) is i: v_x
+      /// (column), v_theta (quad section), v_theta at the node's current angle (slice).
+      double
+      wall_parallel_speed(types::global_dof_index i, const Vector<double> &v) const;
+      /// The largest relative difference, over the cells and their Gauss points, between the
+      /// volume change det F of the current geometry at a Gauss point and at the cell's centroid
+      /// (where F-bar takes it); 3D only. It is 0 where the cells deform affinely (the column's
+      /// simple shear) and grows as the slice's cells are sheared around the arc.
+      double
+      volume_change_spread() const;
       void
       write_histories(const std::vector<double> &wall_displacement,
                       const std::vector<double> &mu_wall,
@@ -1028,6 +1038,39 @@ namespace granflow::ngf
             << "; lower Solver/Max increment (default 0.01) for results to 0.1 %";
           warn(w.str());
         }
+      // The slice's Lagrangian cells turn with the material, each radial line by its own angle.
+      // A cell whose inner nodes have turned by dtheta more than its outer ones is stretched
+      // around the arc by about r dtheta, while its faces Theta = const turn by dtheta: the
+      // trilinear map then changes volume across the cell by about r dtheta^2 / h, growing as
+      // the square of the rotation. F-bar hides it from the pressure, not from the deviatoric
+      // strain at the Gauss points, and the flow drifts from the quad section's, whose cells
+      // stay in the (r, z) plane. Measured at h = d (docs/ngf.md): spread 0.007, 0.016, 0.029,
+      // 0.071 after 4, 6, 8, 12 degrees; surface velocity off the quad section's by 0.003,
+      // 0.009, 0.019, 0.059 of the wall speed. A wider slice distorts sooner (after 4 degrees:
+      // 0.007, 0.013, 0.019 for 0.1, 1, 2 degrees of slice; W/d 2.733, 2.708, 2.680).
+      if (dim == 3)
+        {
+          const double spread                           = volume_change_spread();
+          summary["distortion"]["volume_change_spread"] = spread;
+          if (slice && spread > 0.01)
+            {
+              std::ostringstream w;
+              w << std::setprecision(3)
+                << "the slice's cells are sheared around the arc by the wall rotation: the "
+                   "volume change at their Gauss points differs from that at their centroids by "
+                   "up to "
+                << 100. * spread
+                << " % (above 1 %, the surface velocity drifts from the quad section's: 0.009 of "
+                   "the wall speed at 1.6 %, 0.019 at 2.9 %, 0.059 at 7.1 %, docs/ngf.md); ";
+              if (prm.geometry.slice_angle > 0.1)
+                w << "a slice wider than the paper's 0.1 degree distorts sooner (Geometry/Slice "
+                     "angle = "
+                  << prm.geometry.slice_angle << "); ";
+              w << "for rotations beyond about 5 degrees use the quad section (Geometry/Shape = "
+                   "annulus)";
+              warn(w.str());
+            }
+        }
       // Steady flow starts where mu >= mu_s (g_loc = 0 below it, (22)), and mu is largest at the
       // driven wall in every geometry here: below mu_s there, the mesh does not resolve the flow
       // at the wall (g = 0 there on coarse meshes, docs/ngf.md) or the body has not yielded.
@@ -1193,20 +1236,31 @@ namespace granflow::ngf
           xi_min = std::min(xi_min, point.xi);
       // the annulus's height has elements of its own size (Parameters::scales)
       const double h = column || row ? scale.h : std::max(scale.h, scale.H / scale.n_2);
-      if (!loading && prm.solver.fluidity != "local" && h > std::sqrt(6.) * xi_min)
+      // Below sqrt(6) xi the sign pattern holds, but a mesh coarser than xi can still fail: the
+      // annulus with gravity (xi about 0.94 d) failed at h = 2 d (R_g stalled at 1.5e-6) and ran
+      // at 1.5 d (a review, session 16).
+      if (!loading && prm.solver.fluidity != "local" && h > xi_min)
         {
+          const bool unresolved = h > std::sqrt(6.) * xi_min;
           s << std::setprecision(3) << "; the element size h = " << h / scale.d << " d is "
             << h / xi_min << " times the smallest cooperativity length xi = " << xi_min / scale.d
-            << " d (Henann (24)), so the mesh does not resolve the fluidity equation (23): its "
-               "Newton corrections drive g below 0 beside the band (with linear elements g stays "
-               ">= 0 only for h below about sqrt(6) xi = 2.4 xi); ";
+            << " d (Henann (24)), ";
+          if (unresolved)
+            s << "so the mesh does not resolve the fluidity equation (23): its Newton corrections "
+                 "drive g below 0 beside the band (with linear elements g stays >= 0 only for h "
+                 "below about sqrt(6) xi = 2.4 xi); ";
+          else
+            s << "and meshes coarser than xi may not converge (the annulus with gravity fails at "
+                 "h = 2 d, runs at 1.5 d); ";
           // the cap (footnote ||) bounds xi only where it is what makes xi small
           const bool at_cap = xi_min >= 0.99 * prm.material.nonlocal.xi_cap_over_d * scale.d;
           if (at_cap)
             s << "raise Material/Cooperativity length cap (xi is at the cap, " << xi_min / scale.d
               << " d) or ";
-          s << "refine Geometry/Element size below " << std::sqrt(6.) * xi_min / scale.d << " d"
-            << (at_cap ? "" : " (the paper uses h/d = 1/3)");
+          s << "refine Geometry/Element size";
+          if (unresolved)
+            s << " below " << std::sqrt(6.) * xi_min / scale.d << " d at least";
+          s << (at_cap ? "" : " (the paper uses h/d = 1/3)");
         }
       return s.str();
     }
@@ -1250,6 +1304,50 @@ namespace granflow::ngf
         else if (!slice && dof_component[i] == (column ? 0U : twist))
           w[i] = v[i];
       return w;
+    }
+
+    template <int dim>
+    double
+    Problem<dim>::wall_parallel_speed(const types::global_dof_index i,
+                                      const Vector<double>         &v) const
+    {
+      if (column)
+        return v[i];
+      if (!slice)
+        return v[i + twist];
+      // The circumferential part of (v_x, v_y) at the node's current angle: the slice's nodes
+      // turn with the material (at the reference angle it would carry a factor cos(rotation)).
+      const Point<dim> &X   = dof_point[i];
+      const double      phi = std::atan2(X[1] + U[i + 1], X[0] + U[i]);
+      return -std::sin(phi) * v[i] + std::cos(phi) * v[i + 1];
+    }
+
+    template <int dim>
+    double
+    Problem<dim>::volume_change_spread() const
+    {
+      if (dim != 3)
+        return 0.;
+      const QGauss<dim>                gauss(2), middle(1);
+      FEValues<dim>                    at_q(fe, gauss, update_gradients);
+      FEValues<dim>                    at_c(fe, middle, update_gradients);
+      const FEValuesExtractors::Vector displacement(0);
+      std::vector<Tensor<2, dim>>      grad_q(gauss.size()), grad_c(1);
+      const auto                       J = [](const Tensor<2, dim> &grad_u) {
+        return determinant(Tensor<2, dim>(unit_symmetric_tensor<dim>()) + grad_u);
+      };
+      double spread = 0.;
+      for (const auto &cell : dof_handler.active_cell_iterators())
+        {
+          at_q.reinit(cell);
+          at_c.reinit(cell);
+          at_q[displacement].get_function_gradients(U, grad_q);
+          at_c[displacement].get_function_gradients(U, grad_c);
+          const double J_c = J(grad_c[0]);
+          for (const auto &g : grad_q)
+            spread = std::max(spread, std::abs(J(g) / J_c - 1.));
+        }
+      return spread;
     }
 
     /// history.csv (per increment) and newton.csv (per Newton iterate).
@@ -1327,7 +1425,6 @@ namespace granflow::ngf
       // column (depth z), along the bottom of the annulus row, along the free surface of the
       // annulus (for the slice: on its face Theta = 0, where x = R).
       const unsigned int along    = column ? 2 : 0;
-      const unsigned int parallel = column ? 0 : twist;
       auto               on_line  = [&](const Point<dim> &x) {
         if (column)
           return x[0] < 1e-9 * scale.h && x[1] < 1e-9 * scale.h;
@@ -1337,7 +1434,7 @@ namespace granflow::ngf
       };
       struct NodeValues
       {
-        double v = 0., g = 0., u = 0., v_x = 0., u_x = 0., u_y = 0.;
+        double v = 0., g = 0., u = 0.;
       };
       std::map<double, NodeValues> by_distance;
       for (types::global_dof_index i = 0; i < dof_point.size(); ++i)
@@ -1345,28 +1442,17 @@ namespace granflow::ngf
           if (!on_line(dof_point[i]))
             continue;
           auto &node = by_distance[dof_point[i][along] - (column ? 0. : scale.R_i)];
-          if (slice && dof_component[i] < 2)
+          if (dof_component[i] == 0)
             {
-              // v_theta = -sin(phi) v_x + cos(phi) v_y at the node's current angle phi
-              (dof_component[i] == 0 ? node.v_x : node.v)   = v[i];
-              (dof_component[i] == 0 ? node.u_x : node.u_y) = U[i];
-            }
-          else if (!slice && dof_component[i] == parallel)
-            {
-              node.v = v[i] / scale.v_wall;
-              node.u = column ? U[i] / d : U[i]; // u_x / d, or theta [rad]
+              node.v = wall_parallel_speed(i, v) / scale.v_wall;
+              // u_x / d, the angle of rotation theta [rad] (quad), or the slice node's angle
+              node.u = column  ? U[i] / d
+                       : slice ? std::atan2(dof_point[i][1] + U[i + 1], dof_point[i][0] + U[i])
+                               : U[i + twist];
             }
           else if (dof_component[i] == 3)
             node.g = U[i];
         }
-      if (slice)
-        for (auto &[distance, node] : by_distance)
-          {
-            const double R   = scale.R_i + distance;
-            const double phi = std::atan2(node.u_y, R + node.u_x);
-            node.v           = (-std::sin(phi) * node.v_x + std::cos(phi) * node.v) / scale.v_wall;
-            node.u           = phi; // the angle of rotation theta
-          }
       // g in units of sqrt(G / d) (with gravity) or sqrt(P_wall / (rho_s d^2)) (annulus row)
       const double        g_unit = row ? std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d
                                        : std::sqrt(prm.material.G / d);
@@ -1569,16 +1655,16 @@ namespace granflow::ngf
         }
       data_out.add_data_vector(U, names, DataOut<dim>::type_dof_data, kinds);
       data_out.add_data_vector(v, vnames, DataOut<dim>::type_dof_data, kinds);
-      // The wall-parallel speed over v_wall (Fig. 6: v / (R_i Omega)): v_x (column), v_theta
-      // (quad section), or the circumferential part of (v_x, v_y) (slice, at the point's angle).
-      class WallParallelSpeed : public DataPostprocessorScalar<dim>
+      // The wall-parallel speed over v_wall (Fig. 6: v / (R_i Omega)), nodal, in component 0.
+      Vector<double> speed(v.size());
+      for (types::global_dof_index i = 0; i < v.size(); ++i)
+        if (dof_component[i] == 0)
+          speed[i] = wall_parallel_speed(i, v) / scale.v_wall;
+      class FirstComponent : public DataPostprocessorScalar<dim>
       {
       public:
-        WallParallelSpeed(const bool slice, const double v_wall)
-            : DataPostprocessorScalar<dim>("v_over_v_wall",
-                                           update_values | update_quadrature_points)
-            , slice(slice)
-            , v_wall(v_wall)
+        FirstComponent()
+            : DataPostprocessorScalar<dim>("v_over_v_wall", update_values)
         {
         }
         void
@@ -1586,24 +1672,10 @@ namespace granflow::ngf
                               std::vector<Vector<double>>                &computed) const override
         {
           for (unsigned int q = 0; q < in.solution_values.size(); ++q)
-            {
-              const auto &v     = in.solution_values[q];
-              double      speed = v[dim == 3 ? 0 : 2]; // v_x, or v_theta
-              if (slice)
-                {
-                  const double phi =
-                      std::atan2(in.evaluation_points[q][1], in.evaluation_points[q][0]);
-                  speed = -std::sin(phi) * v[0] + std::cos(phi) * v[1];
-                }
-              computed[q](0) = speed / v_wall;
-            }
+            computed[q](0) = in.solution_values[q][0];
         }
-
-      private:
-        const bool   slice;
-        const double v_wall;
-      } wall_parallel_speed(slice, scale.v_wall);
-      data_out.add_data_vector(v, wall_parallel_speed);
+      } first_component;
+      data_out.add_data_vector(speed, first_component);
       const unsigned int n = tria.n_active_cells();
       Vector<float>      mu(n), p(n), p_scaled(n), tau(n), gamma_dot(n);
       for (unsigned int c = 0; c < n; ++c)
