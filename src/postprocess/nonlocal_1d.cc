@@ -64,23 +64,10 @@ namespace granflow::postprocess
       return problem.P_wall + problem.phi * problem.material.rho_s * problem.G * z;
     }
 
-    /// W: the distance from x.front() where v first falls to v_wall / e (linear between nodes);
-    /// NaN if nothing flows.
     void
     set_shear_band_width(Nonlocal1dProfile &profile)
     {
-      const auto &x = profile.x, &v = profile.v;
-      profile.shear_band_width = std::numeric_limits<double>::quiet_NaN();
-      if (profile.v_wall <= 0.)
-        return;
-      const double v_e = profile.v_wall * std::exp(-1.);
-      for (std::size_t i = 1; i < x.size(); ++i)
-        if (v[i] <= v_e)
-          {
-            const double t           = (v[i - 1] - v_e) / (v[i - 1] - v[i]);
-            profile.shear_band_width = x[i - 1] + t * (x[i] - x[i - 1]) - x.front();
-            return;
-          }
+      profile.shear_band_width = shear_band_width(profile.x, profile.v, profile.v_wall);
     }
 
     // Fills g (linear solve of (90)/(92) for the known mu, p), gamma_dot = g mu (20), v and W.
@@ -223,6 +210,18 @@ namespace granflow::postprocess
       return best;
     }
   } // namespace
+
+  double
+  shear_band_width(const std::vector<double> &x, const std::vector<double> &v, const double v_wall)
+  {
+    if (!(v_wall > 0.))
+      return std::numeric_limits<double>::quiet_NaN();
+    const double v_e = v_wall * std::exp(-1.);
+    for (std::size_t i = 1; i < x.size() && i < v.size(); ++i)
+      if (v[i] <= v_e && v[i - 1] > v_e)
+        return x[i - 1] + (x[i] - x[i - 1]) * (v[i - 1] - v_e) / (v[i - 1] - v[i]) - x.front();
+    return std::numeric_limits<double>::quiet_NaN();
+  }
 
   std::vector<double>
   solve_fluidity_fd(const std::vector<double> &x, const std::vector<double> &xi,

@@ -29,6 +29,12 @@ namespace granflow::postprocess
     double shear_band_width = 0.;
   };
 
+  /// W (Henann 6.1): the distance from x.front() at which the nodal profile v, whose value at the
+  /// driven wall is v_wall > 0, first falls to v_wall / e, linear between nodes; NaN if it never
+  /// does (or v_wall <= 0). The FE runs and the 1D references both measure W with this.
+  double
+  shear_band_width(const std::vector<double> &x, const std::vector<double> &v, double v_wall);
+
   /// (90): z in [0, depth], p = P_wall + phi rho_s G z, mu = mu_wall P_wall / p. Defaults are
   /// the paper's case: P_wall / (phi rho_s G d) = 6.67, depth 20 d, step 0.01 d.
   struct LinearShearGravity1d

@@ -556,4 +556,18 @@ printf '#\n# my own case\nset Model = dp\n' >listing/cases/mine/a.prm
 if grep -q "my own case" out.txt; then pass "list-cases bare comment line"
 else fail "list-cases bare comment line"; cat out.txt err.txt; fi
 
+# A closed silo is rigid everywhere: its velocity is unique, its stress is not, and the summary
+# says so (the zone-separation warning, meaningless there, is not given).
+check dp-closed-silo 0 "Results in" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" \
+  --quiet --output closed --set "Boundary conditions/No-slip=wall, bottom, outlet_wall, outlet" \
+  --set "Output/Write vtu=false"
+if grep -q "rigid at every point" closed/summary.json &&
+  ! grep -q "cannot separate rigid" closed/summary.json; then pass "dp closed silo warns stress not unique"
+else fail "dp closed silo warns stress not unique"; fi
+
+# A mesh coarser than the cooperativity length but below sqrt(6) xi can fail too; the message says so.
+check ngf-coarser-than-xi 3 "meshes coarser than xi may not converge" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" --quiet --output ngf_h2 \
+  --set "Geometry/Element size=2"
+
 summary

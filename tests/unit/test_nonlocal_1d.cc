@@ -486,3 +486,15 @@ namespace
     EXPECT_LT(difference, 0.2);
   }
 } // namespace
+
+TEST(ShearBandWidth, FirstCrossingOfVWallOverELinearBetweenNodes)
+{
+  using granflow::postprocess::shear_band_width;
+  const double v_e = std::exp(-1.);
+  // v = 1 - x / 2 on x in [1, 3] (x.front() = 1): v = 1/e at x - 1 = 2 (1 - 1/e)
+  EXPECT_NEAR(shear_band_width({1., 2., 3.}, {1., 0.5, 0.}, 1.), 2. * (1. - v_e), 1e-15);
+  // the first crossing counts, not a later one after a rise
+  EXPECT_NEAR(shear_band_width({0., 1., 2., 3.}, {2., 0., 2., 0.}, 2.), 1. - v_e, 1e-15);
+  EXPECT_TRUE(std::isnan(shear_band_width({0., 1.}, {1., 0.9}, 1.))); // never decays
+  EXPECT_TRUE(std::isnan(shear_band_width({0., 1.}, {0., 0.}, 0.)));  // nothing flows
+}

@@ -624,6 +624,17 @@ namespace granflow::dp
           ++cell_s;
         }
 
+      // The solvers' sparse matrices have 32-bit indices (CHOLMOD, UMFPACK 'di'), and the
+      // interior point's augmented matrix holds A and H twice.
+      std::size_t nnz_H = 0;
+      for (const auto &row : rows)
+        nnz_H += row.size();
+      if (data.A.column.size() + 2 * nnz_H >
+          static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw InputError(prm.case_file, "Geometry/Mesh size",
+                         "the mesh (" + std::to_string(n_points) +
+                             " constraint points) is too large for the solvers' 32-bit sparse "
+                             "indices: expected a coarser mesh");
       data.H        = solvers::CsrMatrix();
       data.H.n_rows = n_points * s_d;
       data.H.n_cols = n_free;
@@ -1338,7 +1349,25 @@ namespace granflow::dp
       // threshold being 22 % of its largest strain rate (the default cylinder: 2e-5). Without
       // rigid points there is nothing to mislabel (the Bagnold layer, whose eta = abs D makes
       // the threshold large at its free surface).
-      if (n_rigid > 0 && max_D0 > 0. && rigid_D0_max > 0.01 * max_D0)
+      // A body at rest (a closed silo) has a unique velocity, 0, but not a unique stress (4.4.4):
+      // any admissible field in equilibrium with the loads is a solution, and the method picks
+      // one (a closed silo's floor carried 43.1 with the interior point, 51.0 with the fixed
+      // point, of a weight of 65).
+      const bool all_rigid = n_rigid > 0 && n_flowing == 0 && n_dilating == 0;
+      if (all_rigid)
+        {
+          std::ostringstream w;
+          w << std::setprecision(3)
+            << "the material is rigid at every point (each point's abs D0 is below its rigid "
+               "threshold, at least "
+            << rigid_D0_min << "; the largest abs D0 is " << max_D0
+            << "): the velocity is unique, the stress is not (4.4.4): p, tau and the boundary "
+               "forces are one admissible field in equilibrium with the loads, which the method "
+               "picks (the fixed point and the interior point differ)";
+          warn(w.str());
+        }
+      // (a body rigid everywhere has no flow to separate: the warning above covers it)
+      if (!all_rigid && n_rigid > 0 && max_D0 > 0. && rigid_D0_max > 0.01 * max_D0)
         {
           std::ostringstream w;
           w << std::setprecision(3)

@@ -735,7 +735,10 @@ namespace granflow::ngf
                 if (dof_component[i] == 3 && U[i] < 0.)
                   U[i] = 0.;
               if (k == 6)
-                break; // accept a short step; the next Jacobian is taken there
+                break; // accept a short step (only a fresh Jacobian's step gets here: a
+                       // reused one is refactorised at k = 0); with Reuse factorization the
+                       // next step reuses this factorisation, and is refactorised if it
+                       // does not contract the residual four times
               const ResidualNorms m     = assemble(dt, false);
               const double        merit = std::max(m.R_u(n.u_scale), m.R_g(n.g_scale));
               if (!fresh && !(merit <= 0.25 * merit0))
@@ -1466,13 +1469,8 @@ namespace granflow::ngf
         }
       // W: the distance from the driven wall at which v has decayed to v_wall / e (Henann 6.1);
       // undefined (null, NaN in comparisons) if it never does.
-      double W = std::numeric_limits<double>::quiet_NaN();
-      for (unsigned int i = 1; i < x.size(); ++i)
-        if (vel[i] <= std::exp(-1.) && vel[i - 1] > std::exp(-1.))
-          {
-            W = x[i - 1] + (x[i] - x[i - 1]) * (vel[i - 1] - std::exp(-1.)) / (vel[i - 1] - vel[i]);
-            break;
-          }
+      // x starts at the driven wall (x.front() = 0), where v / v_wall = 1
+      const double W = postprocess::shear_band_width(x, vel, 1.);
       if (std::isnan(W))
         {
           if (finished)
