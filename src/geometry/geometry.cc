@@ -218,8 +218,9 @@ namespace granflow::geometry
             std::max({extent, std::abs(p[0] - vertices[0][0]), std::abs(p[1] - vertices[0][1])});
         for (std::size_t v = 0; v < z.size(); ++v)
           if (std::abs(z[v] - z[0]) > 1e-10 * extent)
-            throw error("is not planar: node at " + str(vertices[v]) + " has z = " + str(z[v]) +
-                        ", others z = " + str(z[0]));
+            throw error("does not lie in a plane z = const: node at (x, y) = " + str(vertices[v]) +
+                        " has z = " + str(z[v]) + ", the first node z = " + str(z[0]) +
+                        " (expected a 2D mesh in the x-y plane)");
       }
 
       // Gmsh orients triangles like the curve loop of their surface; deal.II needs them

@@ -570,4 +570,12 @@ check ngf-coarser-than-xi 3 "meshes coarser than xi may not converge" "$GRANFLOW
   "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" --quiet --output ngf_h2 \
   --set "Geometry/Element size=2"
 
+# A mesh in the x-z plane is refused as not lying in a plane z = const (it said "is not planar").
+printf '%s\n' '$MeshFormat' '2.2 0 8' '$EndMeshFormat' '$PhysicalNames' '2' '1 1 "walls"' \
+  '2 2 "domain"' '$EndPhysicalNames' '$Nodes' '3' '1 0 0 0' '2 1 0 0' '3 0 0 1' '$EndNodes' \
+  '$Elements' '4' '1 1 2 1 1 1 2' '2 1 2 1 1 2 3' '3 1 2 1 1 3 1' '4 2 2 2 1 1 2 3' '$EndElements' >xz.msh
+check mesh-xz-plane 2 "does not lie in a plane z = const" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm" --quiet --output xz \
+  --set "Geometry/Shape=file" --set "Geometry/Mesh file=xz.msh"
+
 summary
