@@ -17,8 +17,9 @@ namespace granflow::interrupt
       // The next one gets the default action: a user who presses Ctrl-C twice means it.
       std::signal(signal, SIG_DFL);
       // Said at once (write(2) is async-signal-safe), so that nobody presses it twice unawares.
-      constexpr char message[] = "\ngranflow: stopping at the next iteration; the results so far "
-                                 "will be written (Ctrl-C again to quit at once)\n";
+      constexpr char message[] =
+          "\ngranflow: stopping at the next iteration; what has been computed "
+          "will be written (Ctrl-C again to quit at once)\n";
       [[maybe_unused]] const auto written = ::write(STDERR_FILENO, message, sizeof(message) - 1);
     }
   } // namespace

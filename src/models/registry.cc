@@ -39,12 +39,27 @@ namespace granflow
       out.write_text("parameters.prm", used.str());
       log.print("granflow: case " + request.case_file + " (model " + model_name + ") -> " + dir +
                 "\n");
+      // Moves the results into the target. A failure part-way (a rename) leaves the target
+      // mixing this run's files with an earlier run's: said, and the rest is kept in staging.
+      const auto commit = [&] {
+        try
+          {
+            out.commit();
+          }
+        catch (const std::exception &e)
+          {
+            out.keep_staging();
+            throw std::runtime_error(std::string(e.what()) + " (while moving the results into " +
+                                     dir +
+                                     ", which may now mix this run's files with an earlier "
+                                     "run's; what was not moved is in " +
+                                     out.path() + ")");
+          }
+      };
+      nlohmann::json summary;
       try
         {
-          nlohmann::json summary = run(parameters, out, log).summary;
-          out.commit();
-          summary["output_directory"] = out.target();
-          return summary;
+          summary = run(parameters, out, log).summary;
         }
       catch (const InputError &)
         {
@@ -52,15 +67,17 @@ namespace granflow
         }
       catch (const Interrupted &e)
         {
-          if (e.results_written())
-            out.commit(); // what was written so far is kept
-          else
-            out.keep_staging(); // nothing computed: the earlier results stay (the message says)
+          if (!e.results_written())
+            {
+              out.keep_staging(); // nothing computed: the earlier results stay (the message says)
+              throw;
+            }
+          commit(); // what was written so far is kept
           throw;
         }
       catch (const ConvergenceError &)
         {
-          out.commit(); // what was written so far is kept
+          commit(); // what was written so far is kept
           throw;
         }
       catch (const std::exception &e)
@@ -71,6 +88,9 @@ namespace granflow
                                    " was left as it was; the log of this run is " +
                                    out.file("log.txt") + ")");
         }
+      commit();
+      summary["output_directory"] = out.target();
+      return summary;
     }
   } // namespace
 

@@ -27,15 +27,17 @@ namespace granflow::solvers
     {
       std::uint64_t size = 0;
       in.read(reinterpret_cast<char *>(&size), sizeof(size));
-      // a corrupt size is not allocated: what is left of the stream bounds it
-      const auto here = in.tellg();
-      in.seekg(0, std::ios::end);
-      const auto end = in.tellg();
-      in.seekg(here);
-      if (!in || size > static_cast<std::uint64_t>(end - here) / sizeof(T))
+      // a corrupt size is not allocated: what is left of a file bounds it (a pipe cannot tell)
+      if (const auto here = in.tellg(); in && here != std::streampos(-1))
         {
-          in.setstate(std::ios::failbit);
-          return;
+          in.seekg(0, std::ios::end);
+          const auto end = in.tellg();
+          in.seekg(here);
+          if (!in || size > static_cast<std::uint64_t>(end - here) / sizeof(T))
+            {
+              in.setstate(std::ios::failbit);
+              return;
+            }
         }
       v.resize(size);
       in.read(reinterpret_cast<char *>(v.data()), sizeof(T) * size);
@@ -109,7 +111,7 @@ namespace granflow::solvers
     // The sizes and indices the solvers rely on, so that a corrupt file is refused here rather
     // than read out of bounds.
     const auto valid = [](const CsrMatrix &M) {
-      if (M.row_start.size() != M.n_rows + 1 || M.row_start.front() != 0 ||
+      if (M.row_start.empty() || M.row_start.size() - 1 != M.n_rows || M.row_start.front() != 0 ||
           static_cast<std::size_t>(M.row_start.back()) != M.column.size() ||
           M.value.size() != M.column.size())
         return false;
