@@ -178,6 +178,8 @@ check continued-comment-and-upper-case-end 0 "Results in continued" "$GRANFLOW" 
 check unknown-set-entry 2 "--set Rheology/Friction=0.5: unknown entry 'Rheology/Friction'" "$GRANFLOW" run \
   "$case_file" --output keep --quiet --set "Rheology/Friction=0.5"
 bad mu-negative "mu" --set "Rheology/mu=-0.1"
+# In 2D mu = sin(phi) < 1; both solvers failed on a closed hopper at mu = 2.
+bad mu-one "Rheology/mu=1: value '1' is invalid: expected a number in [0, 1)" --set "Rheology/mu=1"
 bad Bi-negative "Bi" --set "Rheology/Bi=-1"
 bad Re-zero "Rheology/Re" --set "Rheology/Re=0"
 bad Re-negative "Re" --set "Rheology/Re=-2"

@@ -72,7 +72,14 @@ namespace granflow::dp
     prm.enter_subsection("Rheology");
     {
       auto &r = rheology;
-      prm.add_parameter("mu", r.mu, "Friction coefficient mu of DP(mu, Bi), >= 0.", Double(0.));
+      // In 2D mu = sin(phi), phi the angle of friction (Daviet & Bertails-Descoubes 2016, after
+      // (4)), so mu >= 1 is no material; both solvers fail on a closed hopper at mu = 2 (and the
+      // interior point on one at mu = 1).
+      prm.add_parameter(
+          "mu", r.mu,
+          "Friction coefficient mu of DP(mu, Bi), in [0, 1): mu = sin(phi) in 2D, phi "
+          "the angle of friction.",
+          Interval(0., false, 1., true));
       prm.add_parameter("Bi", r.Bi, "Bingham number Bi = sigma_0 / (rho g L), >= 0.", Double(0.));
       prm.add_parameter("Re", r.Re,
                         "Reynolds number Re = rho U L / eta, in (0, 1e6] (the viscous term 2/Re "

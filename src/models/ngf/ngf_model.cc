@@ -974,7 +974,10 @@ namespace granflow::ngf
           double               dv    = 0.;
           for (types::global_dof_index i = 0; i < v.size(); ++i)
             dv = std::max(dv, std::abs(v_end[i] - v_window[i]) / scale.v_wall);
-          const double dmu = std::abs(mu_wall - mu_wall_window) / std::abs(mu_wall);
+          // (a mu_wall of exactly 0, a body not loaded at all, is steady if it stays 0)
+          const double dmu = mu_wall == mu_wall_window
+                                 ? 0.
+                                 : std::abs(mu_wall - mu_wall_window) / std::abs(mu_wall);
           steady           = {{"window_over_d", (u_wall - u_wall_window) / d},
                               {"mu_wall_relative_change", dmu},
                               {"velocity_change_over_v_wall", dv},
