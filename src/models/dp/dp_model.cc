@@ -120,8 +120,29 @@ namespace granflow::dp
       {
         return std::max(rheology::tensor_norm(D), prm.rheology.viscosity_floor);
       }
+      /// Values at the constraint points that postprocess() and its parts share.
+      struct PointFields
+      {
+        std::vector<double> p, div_u, D0_norm;
+        std::vector<double> zone; // 0 rigid, 1 flowing, 2 dilating
+        double              max_D0 = 0., max_div = 0.;
+        double              threshold = 0.; // the rigid threshold on the scaled strain rate
+        std::size_t         n_rigid = 0, n_flowing = 0, n_dilating = 0;
+        double rigid_D0_min = std::numeric_limits<double>::infinity(), rigid_D0_max = 0.;
+      };
       void
       postprocess(Results &results);
+      PointFields
+      point_fields();
+      void
+      warn_about_zones(const PointFields &pf);
+      void
+      write_velocity_profile(nlohmann::json &S, const PointFields &pf);
+      std::map<types::boundary_id, postprocess::BoundaryFlux>
+      summarise_fluxes(nlohmann::json &S) const;
+      void
+      summarise_drag(nlohmann::json &S, const PointFields &pf,
+                     const std::map<types::boundary_id, postprocess::BoundaryFlux> &flux_of);
       void
       write_vtu();
       Tensor<1, dim>
@@ -1201,16 +1222,19 @@ namespace granflow::dp
     }
 
     /// Fields at the constraint points (stress lambda; discrete strain rate gamma / (2 w_i), the
-    /// chi-coordinates of D(u) the rheology sees), the zones, profiles, drag and error against the
-    /// analytic reference.
-    void
-    Problem::postprocess(Results &results)
+    /// chi-coordinates of D(u) the rheology sees) and the zones; sets stress_fields and cell_zone.
+    Problem::PointFields
+    Problem::point_fields()
     {
       const double sqrt_2_over_d = std::sqrt(2. / dim); // p = sqrt(2/d) lambda_N (Property 2)
-      std::vector<double> p(n_points), tau_xx(n_points), tau_xy(n_points), lambda_N(n_points),
-          lambda_1(n_points), lambda_2(n_points), D0_1(n_points), D0_2(n_points), D0_norm(n_points),
-          div_u(n_points), zone(n_points), residual(n_points);
-      double max_D0 = 0., max_div = 0.;
+      PointFields          pf;
+      std::vector<double> &p = pf.p, &div_u = pf.div_u, &D0_norm = pf.D0_norm, &zone = pf.zone;
+      for (std::vector<double> *v : {&p, &div_u, &D0_norm, &zone})
+        v->resize(n_points);
+      std::vector<double> tau_xx(n_points), tau_xy(n_points), lambda_N(n_points),
+          lambda_1(n_points), lambda_2(n_points), D0_1(n_points), D0_2(n_points),
+          residual(n_points);
+      double &max_D0 = pf.max_D0, &max_div = pf.max_div;
       for (std::size_t i = 0; i < n_points; ++i)
         {
           const double *l = &solution.lambda[i * s_d], *g = &solution.gamma[i * s_d];
@@ -1240,9 +1264,9 @@ namespace granflow::dp
       // (in a rigid zone the Alart-Curnier residual is exactly -gamma_T), dilating where its
       // normal part exceeds it, flowing otherwise. In |D0| this threshold is 10 tol Re / 2 at
       // every point; summary.json reports it.
-      const double threshold = 10. * prm.solver.tolerance;
-      std::size_t  n_rigid = 0, n_flowing = 0, n_dilating = 0;
-      double       rigid_D0_min = std::numeric_limits<double>::infinity(), rigid_D0_max = 0.;
+      const double threshold = pf.threshold = 10. * prm.solver.tolerance;
+      std::size_t &n_rigid = pf.n_rigid, &n_flowing = pf.n_flowing, &n_dilating = pf.n_dilating;
+      double      &rigid_D0_min = pf.rigid_D0_min, &rigid_D0_max = pf.rigid_D0_max;
       for (std::size_t i = 0; i < n_points; ++i)
         {
           const double c    = data.gamma_scale[i];
@@ -1309,42 +1333,19 @@ namespace granflow::dp
           const auto most                      = std::max_element(count.begin(), count.end());
           cell_zone[cell->active_cell_index()] = *most >= 2 ? most - count.begin() : 1;
         }
+      return pf;
+    }
 
-      nlohmann::json &S             = results.summary;
-      S["traction_free_boundaries"] = traction_free;
-      S["case"]         = prm.name;
-      S["case_file"]    = prm.case_file;
-      S["model"]        = "dp";
-      // Daviet (23): the results are dimensionless in these units (L the case's length unit, g
-      // gravity, rho the density; the timings are in seconds); 2D, so fluxes and forces are per
-      // unit depth.
-      S["units"]        = {{"length", "L"},
-                           {"velocity", "sqrt(g L)"},
-                           {"stress", "rho g L"},
-                           {"volume_outflow", "L sqrt(g L) per unit depth"},
-                           {"dilation_rate", "L sqrt(g L) per unit depth"},
-                           {"force", "rho g L^2 per unit depth"}};
-      S["rheology"]     = {{"mu", prm.rheology.mu}, {"Bi", prm.rheology.Bi}, {"Re", prm.rheology.Re},
-                           {"b", prm.rheology.b}, {"viscosity", prm.rheology.viscosity}};
-      S["mesh"]         = {{"triangles", mesh.triangulation.n_active_cells()},
-                           {"vertices", mesh.triangulation.n_vertices()},
-                           {"velocity_dofs", dof_u.n_dofs()},
-                           {"free_velocity_dofs", n_free},
-                           {"stress_element", prm.solver.stress_element},
-                           {"constraint_points", n_points}};
-      S["solver"]       = solver_json;
-      // as in the ngf summary: whether the run reached its tolerance, and whether a signal ended it
-      S["converged"]    = solver_json.value("converged", false);
-      S["interrupted"]  = solver_json.value("interrupted", false);
-      S["zones"]        = {{"rigid_points", n_rigid},
-                           {"flowing_points", n_flowing},
-                           {"dilating_points", n_dilating},
-                           {"max_div_u", max_div},
-                           {"max_deviatoric_strain_rate", max_D0},
-                           {"rigid_means_deviatoric_strain_rate_below",
-                            {{"min", rigid_D0_min}, {"max", rigid_D0_max}}}};
-      S["pressure"]     = {{"min", *std::min_element(p.begin(), p.end())},
-                           {"max", *std::max_element(p.begin(), p.end())}};
+    /// The warnings on what the zones can tell at this tolerance.
+    void
+    Problem::warn_about_zones(const PointFields &pf)
+    {
+      const double      max_D0       = pf.max_D0;
+      const std::size_t n_rigid      = pf.n_rigid;
+      const std::size_t n_flowing    = pf.n_flowing;
+      const std::size_t n_dilating   = pf.n_dilating;
+      const double      rigid_D0_min = pf.rigid_D0_min;
+      const double      rigid_D0_max = pf.rigid_D0_max;
       // The zones separate rigid from flowing material only down to the rigid threshold, which
       // the tolerance sets. A loose tolerance (a stalled run's remedy) makes slowly shearing
       // material "rigid": a silo at Solver/Tolerance = 1e-2 had its whole bulk rigid, the
@@ -1387,7 +1388,15 @@ namespace granflow::dp
             << "; lower the tolerance for a zone map (README, Output directory)";
           warn(w.str());
         }
+    }
 
+    /// profiles/velocity.csv along the case's line, and the errors against the analytic reference.
+    void
+    Problem::write_velocity_profile(nlohmann::json &S, const PointFields &pf)
+    {
+      const std::vector<double> &D0_norm   = pf.D0_norm;
+      const double               max_D0    = pf.max_D0;
+      const double               threshold = pf.threshold;
       // Profile along the line of the case file.
       const Point<dim> a = parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start");
       const Point<dim> b = parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end");
@@ -1506,7 +1515,12 @@ namespace granflow::dp
             }
         }
       out.write_csv("profiles/velocity.csv", header, columns);
+    }
 
+    /// The volume flux out through each named boundary, and the rate of dilation.
+    std::map<types::boundary_id, postprocess::BoundaryFlux>
+    Problem::summarise_fluxes(nlohmann::json &S) const
+    {
       std::map<types::boundary_id, postprocess::BoundaryFlux> flux_of;
       // Volume flux out through each named boundary (per unit depth; negative where material
       // enters): a silo's discharge rate is its outlet's. Their sum is int div u, the rate at
@@ -1535,7 +1549,18 @@ namespace granflow::dp
           }
         S["dilation_rate"] = dilation;
       }
+      return flux_of;
+    }
 
+    /// U_infinity, the force on Output/Drag boundary and, in the cylinder channel, the wake, the
+    /// arch, Fr and C_D (Daviet 6.3).
+    void
+    Problem::summarise_drag(nlohmann::json &S, const PointFields &pf,
+                            const std::map<types::boundary_id, postprocess::BoundaryFlux> &flux_of)
+    {
+      const std::vector<double> &p     = pf.p;
+      const std::vector<double> &div_u = pf.div_u;
+      const std::vector<double> &zone  = pf.zone;
       // U_infinity is the inflow's mean speed on any mesh, positive into the domain. Below
       // jammed_speed the channel is jammed: 1e-5 Re sqrt(g L) (velocities scale with Re, (23));
       // at the sweep's Re = 100 that is 1e-3, as in scripts/cylinder_drag_sweep.sh (its jammed
@@ -1700,6 +1725,63 @@ namespace granflow::dp
                 S["drag_coefficient"] = along * F_D / (0.5 * U_inf * U_inf * D);
             }
         }
+    }
+
+    /// Fields at the constraint points, the zones, profiles, fluxes, drag and errors against the
+    /// analytic reference: summary.json, profiles/ and the stress-space fields of the VTU.
+    void
+    Problem::postprocess(Results &results)
+    {
+      const PointFields          pf           = point_fields();
+      const std::vector<double> &p            = pf.p;
+      const double               max_D0       = pf.max_D0;
+      const double               max_div      = pf.max_div;
+      const std::size_t          n_rigid      = pf.n_rigid;
+      const std::size_t          n_flowing    = pf.n_flowing;
+      const std::size_t          n_dilating   = pf.n_dilating;
+      const double               rigid_D0_min = pf.rigid_D0_min;
+      const double               rigid_D0_max = pf.rigid_D0_max;
+      nlohmann::json            &S            = results.summary;
+      S["traction_free_boundaries"]           = traction_free;
+      S["case"]                               = prm.name;
+      S["case_file"]                          = prm.case_file;
+      S["model"]                              = "dp";
+      // Daviet (23): the results are dimensionless in these units (L the case's length unit, g
+      // gravity, rho the density; the timings are in seconds); 2D, so fluxes and forces are per
+      // unit depth.
+      S["units"]    = {{"length", "L"},
+                       {"velocity", "sqrt(g L)"},
+                       {"stress", "rho g L"},
+                       {"volume_outflow", "L sqrt(g L) per unit depth"},
+                       {"dilation_rate", "L sqrt(g L) per unit depth"},
+                       {"force", "rho g L^2 per unit depth"}};
+      S["rheology"] = {{"mu", prm.rheology.mu},
+                       {"Bi", prm.rheology.Bi},
+                       {"Re", prm.rheology.Re},
+                       {"b", prm.rheology.b},
+                       {"viscosity", prm.rheology.viscosity}};
+      S["mesh"]     = {{"triangles", mesh.triangulation.n_active_cells()},
+                       {"vertices", mesh.triangulation.n_vertices()},
+                       {"velocity_dofs", dof_u.n_dofs()},
+                       {"free_velocity_dofs", n_free},
+                       {"stress_element", prm.solver.stress_element},
+                       {"constraint_points", n_points}};
+      S["solver"]   = solver_json;
+      // as in the ngf summary: whether the run reached its tolerance, and whether a signal ended it
+      S["converged"]   = solver_json.value("converged", false);
+      S["interrupted"] = solver_json.value("interrupted", false);
+      S["zones"]       = {{"rigid_points", n_rigid},
+                          {"flowing_points", n_flowing},
+                          {"dilating_points", n_dilating},
+                          {"max_div_u", max_div},
+                          {"max_deviatoric_strain_rate", max_D0},
+                          {"rigid_means_deviatoric_strain_rate_below",
+                           {{"min", rigid_D0_min}, {"max", rigid_D0_max}}}};
+      S["pressure"]    = {{"min", *std::min_element(p.begin(), p.end())},
+                          {"max", *std::max_element(p.begin(), p.end())}};
+      warn_about_zones(pf);
+      write_velocity_profile(S, pf);
+      summarise_drag(S, pf, summarise_fluxes(S));
     }
 
     /// The force of the material on a boundary with a velocity condition, as the reaction of the
