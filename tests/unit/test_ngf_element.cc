@@ -69,7 +69,14 @@ namespace
     return s;
   }
 
-  /// Max |J - J_fd| per block over max |J_fd| per block; J_fd by fourth-order central differences.
+  /// Every block of the element Jacobian against fourth-order central differences of the
+  /// residual. Blocks by unknown type (c = 0, 1, 2 displacement-type, 3 fluidity), each judged on
+  /// its own: in a row the blocks differ by up to 1e7 (K_gu against K_gg, K_uu against K_ug), and
+  /// a tolerance taken from the row's largest block hid factor-2 errors in the small ones. The
+  /// differences' own error in a block (round-off, which grows as the step shrinks, and
+  /// truncation) is measured as the change of the difference quotients when the step is doubled.
+  /// The test also requires its power of resolution: in every block that must be tested, an error
+  /// of 1 % of the block's largest entry would exceed the tolerance.
   /// `coupled` false: the local variant (g = g_loc at the points, no fluidity unknown in the
   /// displacement residual).
   void
@@ -85,53 +92,53 @@ namespace
     ASSERT_TRUE(above) << "the state should flow above mu_s somewhere";
 
     const unsigned int n = out.residual.size();
-    // errors per block of unknown types (c = 0, 1, 2 displacement-type, 3 fluidity), so that small
-    // blocks (e.g. the frame-rotation coupling of u_r and theta) are not hidden by large ones
-    const double w[4] = {1., -8., 8., -1.}, h[4] = {-2., -1., 1., 2.};
-    double       worst[4][4] = {}, scale[4][4] = {};
+    const auto         differences = [&](const unsigned int j, const double step) {
+      const double           w[4] = {1., -8., 8., -1.}, h[4] = {-2., -1., 1., 2.};
+      dealii::Vector<double> fd(n);
+      for (int k = 0; k < 4; ++k)
+        {
+          ngf::ElementInput p = in;
+          if (j % 4 == 3)
+            p.g[j / 4] += h[k] * step;
+          else
+            p.u[j / 4][j % 4] += h[k] * step;
+          ngf::ElementOutput o;
+          element.evaluate(shape, p, false, o);
+          fd.add(w[k] / (12. * step), o.residual);
+        }
+      return fd;
+    };
+    double worst[4][4] = {}, scale[4][4] = {}, noise[4][4] = {};
     for (unsigned int j = 0; j < n; ++j)
       {
-        const double           step = j % 4 == 3 ? 1e-5 : u_step[j % 4];
-        dealii::Vector<double> fd(n);
-        for (int k = 0; k < 4; ++k)
-          {
-            ngf::ElementInput p = in;
-            if (j % 4 == 3)
-              p.g[j / 4] += h[k] * step;
-            else
-              p.u[j / 4][j % 4] += h[k] * step;
-            ngf::ElementOutput o;
-            element.evaluate(shape, p, false, o);
-            fd.add(w[k] / (12. * step), o.residual);
-          }
+        const double                 step = j % 4 == 3 ? 1e-5 : u_step[j % 4];
+        const dealii::Vector<double> fd = differences(j, step), fd_2 = differences(j, 2. * step);
         for (unsigned int i = 0; i < n; ++i)
           {
-            worst[i % 4][j % 4] =
-                std::max(worst[i % 4][j % 4], std::abs(out.jacobian(i, j) - fd[i]));
-            scale[i % 4][j % 4] = std::max(scale[i % 4][j % 4], std::abs(fd[i]));
+            double &e = worst[i % 4][j % 4], &s = scale[i % 4][j % 4], &r = noise[i % 4][j % 4];
+            e = std::max(e, std::abs(out.jacobian(i, j) - fd[i]));
+            s = std::max(s, std::abs(fd[i]));
+            r = std::max(r, std::abs(fd_2[i] - fd[i]));
           }
       }
-    // Tolerance: 1e-6 of the block, with a floor of 1e-5 of the largest entry of the same equation
-    // (the differences' noise for blocks that are nearly zero, e.g. the torque's dependence on
-    // u_r).
+    // Every block must be resolved, with the twist's couplings too (the state has shears in both
+    // planes, elastic_strain()), except that the local variant has no fluidity unknown.
+    const auto must_resolve = [&](const int bi, const int bj) {
+      return coupled || (bi != 3 && bj != 3);
+    };
     for (int bi = 0; bi < 4; ++bi)
       for (int bj = 0; bj < 4; ++bj)
-        if (scale[bi][bj] > 0.)
-          {
-            EXPECT_LT(worst[bi][bj],
-                      1e-6 * scale[bi][bj] + 1e-5 * *std::max_element(scale[bi], scale[bi] + 4))
-                << "block (" << bi << ", " << bj << "): max error " << worst[bi][bj]
-                << " of max entry " << scale[bi][bj];
-          }
-    // every kind of coupling is exercised: displacement-displacement, displacement-fluidity, both
-    // ways
-    EXPECT_GT(scale[0][0], 0.);
-    if (coupled)
-      {
-        EXPECT_GT(scale[0][3], 0.);
-        EXPECT_GT(scale[3][0], 0.);
-        EXPECT_GT(scale[3][3], 0.);
-      }
+        {
+          const double tolerance = 1e-6 * scale[bi][bj] + 4. * noise[bi][bj];
+          EXPECT_LE(worst[bi][bj], tolerance)
+              << "block (" << bi << ", " << bj << "): max error " << worst[bi][bj]
+              << " of max entry " << scale[bi][bj] << " (differences' own error " << noise[bi][bj]
+              << ")";
+          if (must_resolve(bi, bj))
+            EXPECT_LT(tolerance, 1e-2 * scale[bi][bj])
+                << "block (" << bi << ", " << bj << ") is not resolved: tolerance " << tolerance
+                << " for a largest entry " << scale[bi][bj];
+        }
   }
 
   // a plastic distortion with shears of 0.4 and det = 1
@@ -146,21 +153,25 @@ namespace
   }
 
   // Moduli softened by `softening` (1: the paper's S = 1 MPa, B = 10 MPa). With the paper's moduli
-  // the stress is 1e-4 of them and the geometric (initial-stress and frame-rotation) terms of the
-  // Jacobian are below the test's resolution; softened 100 times, they are 1e-2 of it and tested.
+  // the stress is 1e-4 of them, and so are the geometric (initial-stress and frame-rotation) terms
+  // of K_uu against its material part: a factor 2 in them shows, 1 % does not. Softened 100
+  // times, they are 1e-2 of it, and an error of 1e-4 of them shows.
   rheology::ElasticModuli
   moduli(double softening)
   {
     return {1e6 / softening, 1e7 / softening};
   }
 
-  // an elastic strain with a shear of 4e-4 and a compression of 1e-4 (times the softening):
-  // mu_tr ~ 0.6 > mu_s for g dt ~ 4e-4 / softening
+  // an elastic strain with shears of 4e-4 and 2.5e-4 and a compression of 1e-4 (times the
+  // softening): mu_tr ~ 0.7 > mu_s for g dt ~ 4e-4 / softening. Two shears: with one alone, the
+  // equivalent shear stress has no first derivative along the other, and the fluidity row's
+  // coupling with it (the quad's twist, which drives the annulus) would be zero and untested.
   rheology::SymTensor2
   elastic_strain(double softening)
   {
     rheology::SymTensor2 Ee = -3e-5 * softening * dealii::unit_symmetric_tensor<3>();
     Ee[0][2]                = 4e-4 * softening;
+    Ee[0][1]                = 2.5e-4 * softening;
     return Ee;
   }
 

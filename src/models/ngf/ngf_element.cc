@@ -258,7 +258,7 @@ namespace granflow::ngf
                   for (unsigned int b = 0; b < n_nodes; ++b)
                     out.jacobian(i, 4 * b) -= in.body_force[1] * N[a] * N[b] * dV;
               }
-            else
+            else if (!local) // (no fluidity equation in the local variant, as above)
               for (unsigned int j = 0; j < n_dofs; ++j)
                 {
                   const unsigned int b = j / 4;
