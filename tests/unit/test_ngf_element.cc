@@ -135,9 +135,11 @@ namespace
               << " of max entry " << scale[bi][bj] << " (differences' own error " << noise[bi][bj]
               << ")";
           if (must_resolve(bi, bj))
-            EXPECT_LT(tolerance, 1e-2 * scale[bi][bj])
-                << "block (" << bi << ", " << bj << ") is not resolved: tolerance " << tolerance
-                << " for a largest entry " << scale[bi][bj];
+            {
+              EXPECT_LT(tolerance, 1e-2 * scale[bi][bj])
+                  << "block (" << bi << ", " << bj << ") is not resolved: tolerance " << tolerance
+                  << " for a largest entry " << scale[bi][bj];
+            }
         }
   }
 

@@ -70,6 +70,18 @@ namespace
         postprocess::solve_linear_shear_gravity_for_speed(fd, c.v_wall * std::sqrt(m.G * d));
 
     test::expect_matches_reference(summary, dir, reference, d);
+    // The rate-dependent part mu_wall - mu_s, which 1 % of mu_wall does not see near the
+    // plateau: at h = d / 3 it is resolved at P_wall = 6.67 from v_wall = 1e-3 up (measured
+    // +0.6 %, -4.2 %, -0.3 % at 1e-3, 1e-2, 1), not at lower speeds or higher pressures (+22 % at
+    // 1e-4; +12 % to -52 % from P_wall = 3.33 to 100; docs/ngf.md), where it is only recorded.
+    const double mu_s = m.nonlocal.mu_s;
+    const double excess =
+        (summary["mu_wall"].get<double>() - mu_s) / (reference.mu_wall - mu_s) - 1.;
+    RecordProperty("mu_wall_minus_mu_s_relative_difference", std::to_string(excess));
+    if (c.P_wall == 6.67 && c.v_wall >= 1e-3)
+      {
+        EXPECT_LT(std::abs(excess), 0.1) << "mu_wall - mu_s against the FD value";
+      }
     // The run to a wall displacement of d is steady by the summary's own verdict.
     EXPECT_TRUE(summary["steady_state"]["steady"].get<bool>()) << summary["steady_state"].dump();
     EXPECT_TRUE(summary["warnings"].empty()) << summary["warnings"].dump();
