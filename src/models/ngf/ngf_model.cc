@@ -52,6 +52,14 @@ namespace granflow::ngf
       double dU_u = std::numeric_limits<double>::quiet_NaN(), dU_g = dU_u;
     };
 
+    /// The remedy the local model's warnings give: its flow collapses into the first element at
+    /// every resolution (Henann & Kamrin 2016, Fig. 7b; mu(I) is ill posed at low I, Barker et
+    /// al. 2015): a review refined the column from h = d / 3 to d / 90, and the band stayed in
+    /// one element (W = 0.63 h) with mu_wall 0.391, 0.382, 0.372, 0.388.
+    constexpr const char *local_localises =
+        "the local model localises its flow into the first element at every resolution (Henann "
+        "& Kamrin Fig. 7), so refining does not resolve it: Solver/Fluidity = nonlocal does";
+
     /// One run of a geometry: dim = 3 are bricks (the shear column of Henann 6.1, the annulus slice
     /// of 6.3), dim = 2 an annulus section of generalized-axisymmetric quads (6.2, 6.3). Nodal
     /// unknowns: (u_x, u_y, u_z, g) or (u_r, u_z, theta, g).
@@ -1107,6 +1115,8 @@ namespace granflow::ngf
                  "as g = 0 or a g_wall below the fluidity beside the wall does: the boundary "
                  "layer this makes needs h well below d, docs/ngf.md; refine Geometry/Element "
                  "size)";
+          else if (prm.solver.fluidity == "local")
+            w << " (" << local_localises << ")";
           else
             w << " (refine Geometry/Element size)";
           warn(w.str());
@@ -1496,7 +1506,8 @@ namespace granflow::ngf
               w << "the shear band is narrower than one element (W/d = " << W
                 << " < h/d = " << scale.h / d
                 << "): W/d is interpolated inside the first element and depends on the mesh; "
-                   "refine Geometry/Element size";
+                << (prm.solver.fluidity == "local" ? local_localises
+                                                   : "refine Geometry/Element size");
               warn(w.str());
             }
           // A band of a few elements is resolved, but coarsely: in the shear column at
@@ -1509,7 +1520,9 @@ namespace granflow::ngf
               w << std::setprecision(3) << "the shear band spans only " << W * d / scale.h
                 << " elements (W/d = " << W << ", h/d = " << scale.h / d
                 << "): at fewer than 3, mu_wall, W/d and the profile carry discretisation errors "
-                   "of several per cent (docs/ngf.md); refine Geometry/Element size";
+                   "of several per cent (docs/ngf.md); "
+                << (prm.solver.fluidity == "local" ? local_localises
+                                                   : "refine Geometry/Element size");
               warn(w.str());
             }
         }
