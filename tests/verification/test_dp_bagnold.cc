@@ -63,8 +63,10 @@ TEST_P(Bagnold, VelocityAndShearRateWithinTwoPercent)
       ++rows;
     }
   ASSERT_GT(rows, 50);
-  EXPECT_LE(err_u / max_u, 0.02);
-  EXPECT_LE(err_du / max_du, 0.02);
+  // The issue asks for 2 %; measured 1.1e-4 and 1.07e-3 (Re = 1 and 2), so a regression far
+  // inside the issue's bound shows: 5e-4 and 5e-3.
+  EXPECT_LE(err_u / max_u, 5e-4);
+  EXPECT_LE(err_du / max_du, 5e-3);
   // The summary's own comparison uses the same analytic solution.
   EXPECT_NEAR(summary["max_rel_error"].get<double>(), err_u / max_u, 1e-6);
   RecordProperty("velocity_rel_error", std::to_string(err_u / max_u));

@@ -153,11 +153,16 @@ TEST_P(BinghamConvergence, ErrorsDecreaseUnderRefinement)
         }
       line_Linf.push_back(e);
     }
+  // Measured orders (levels 0-1, 1-2): P1 max norm 2.0, 1.84, H1 1.38, 1.53, line 1.93, 1.99;
+  // P1d 1.73, 1.38, H1 1.43, 1.35, line 1.31, 1.47. P2-P1's max-norm orders are required at 1.6,
+  // so that a loss of its second order shows; the rest at 1.2.
+  const double max_norm_order = GetParam() == "P1" ? 1.6 : 1.2;
   for (int r = 0; r + 1 < 3; ++r)
     {
-      EXPECT_GE(std::log2(Linf[r] / Linf[r + 1]), 1.2) << GetParam() << " level " << r;
+      EXPECT_GE(std::log2(Linf[r] / Linf[r + 1]), max_norm_order) << GetParam() << " level " << r;
       EXPECT_GE(std::log2(H1[r] / H1[r + 1]), 1.2) << GetParam() << " level " << r;
-      EXPECT_GE(std::log2(line_Linf[r] / line_Linf[r + 1]), 1.2) << GetParam() << " level " << r;
+      EXPECT_GE(std::log2(line_Linf[r] / line_Linf[r + 1]), max_norm_order)
+          << GetParam() << " level " << r;
     }
 }
 

@@ -2,7 +2,8 @@
 // axisymmetric quad section and on a 3D slice of bricks with rotated periodic faces, must give the
 // same flow (the paper: "indistinguishable"). A reduced cell keeps the test fast: R_i = 20 d,
 // R_o - R_i = 6 d, H = 3 d, h/d = 1/2, 2 degrees of rotation at R_i Omega / sqrt(G d) = 1e-3.
-// Checked: surface velocity within 0.02 of the wall speed (issue #3 c), W and mu_wall within 2 %.
+// Checked: surface velocity within 0.02 of the wall speed (issue #3 c), W within 1 % and mu_wall
+// within 1.5 % (measured 0.31 % and 0.66 %).
 #include "models/ngf/ngf_model.h"
 #include "support/csv.h"
 #include "support/ngf_run.h"
@@ -50,7 +51,9 @@ namespace
     const double W_quad  = quad["shear_band_width_over_d"],
                  W_slice = slice["shear_band_width_over_d"];
     const double mu_quad = quad["mu_wall"], mu_slice = slice["mu_wall"];
-    EXPECT_NEAR(W_slice, W_quad, 0.02 * W_quad);
-    EXPECT_NEAR(mu_slice, mu_quad, 0.02 * mu_quad);
+    RecordProperty("W_relative_difference", std::to_string(W_slice / W_quad - 1.));
+    RecordProperty("mu_wall_relative_difference", std::to_string(mu_slice / mu_quad - 1.));
+    EXPECT_NEAR(W_slice, W_quad, 0.01 * W_quad);
+    EXPECT_NEAR(mu_slice, mu_quad, 0.015 * mu_quad);
   }
 } // namespace
