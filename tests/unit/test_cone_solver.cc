@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <cmath>
 #include <cstdint>
 #include <fstream>
@@ -97,6 +99,32 @@ namespace
     data.Bi = {0., 0., 0.};
     return data;
   }
+  /// Expects Corollary 1's complementarity at every point, written out here rather than through
+  /// the f_AC / f_FB the solvers stop on: lambda in K_mu (|lambda_T| <= mu lambda_N), gamma_hat =
+  /// gamma + mu |gamma_T| e_N in its dual K_{1/mu} (mu |gamma_T| <= gamma_hat_N), and lambda .
+  /// gamma_hat = 0, each to `tolerance`. (Bi = 0 and gamma_scale 1, as in these problems.)
+  /// Returns how many points are in each of the three cases: lambda = 0 (separating), gamma_hat =
+  /// 0 (rigid), both on the boundaries (sliding).
+  std::array<int, 3>
+  expect_complementarity(const ConeProblemData &data, const std::vector<double> &lambda,
+                         const std::vector<double> &gamma, const double tolerance)
+  {
+    std::array<int, 3> cases{{0, 0, 0}};
+    for (std::size_t i = 0; i < data.mu.size(); ++i)
+      {
+        const double *l = &lambda[3 * i], *g = &gamma[3 * i], mu = data.mu[i];
+        const double  lT = std::hypot(l[1], l[2]), gT = std::hypot(g[1], g[2]);
+        const double  hat_N = g[0] + mu * gT;
+        EXPECT_LE(lT, mu * l[0] + tolerance) << "point " << i << ": lambda outside K_mu";
+        EXPECT_LE(mu * gT, hat_N + tolerance) << "point " << i << ": gamma_hat outside K_1/mu";
+        EXPECT_NEAR(l[0] * hat_N + l[1] * g[1] + l[2] * g[2], 0., tolerance)
+            << "point " << i << ": lambda . gamma_hat";
+        ++cases[std::hypot(l[0], lT) <= tolerance ? 0
+                                                  : (std::hypot(hat_N, gT) <= tolerance ? 1 : 2)];
+      }
+    return cases;
+  }
+
   /// Expects the returned u to be A^{-1}(H^T lambda + l) (35a) to `tolerance`; returns the strain
   /// rate gamma = H u (k = 0) recomputed from it, for the rheology checks.
   std::vector<double>
@@ -185,6 +213,10 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
   const std::vector<double> gamma = expect_velocity_of_stress(data, solution, 1e-10);
   EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-7);
   EXPECT_LE(cone_residual(data, ResidualKind::fischer_burmeister, solution.lambda, gamma), 1e-7);
+  const auto cases = expect_complementarity(data, solution.lambda, gamma, 1e-7);
+  RecordProperty("separating_rigid_sliding", std::to_string(cases[0]) + " " +
+                                                 std::to_string(cases[1]) + " " +
+                                                 std::to_string(cases[2]));
 
   // Every inner solver finds the same u (at fixed s it is unique, Section 4.4.4).
   ConeSolverOptions reference_options = options;
@@ -282,6 +314,7 @@ TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
 
   const std::vector<double> gamma = expect_velocity_of_stress(data, solution, 1e-8);
   EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-7);
+  expect_complementarity(data, solution.lambda, gamma, 1e-6);
 
   ConeSolverOptions reference_options;
   reference_options.inner_solver = InnerSolver::projected_gradient;

@@ -319,7 +319,9 @@ namespace
     std::uniform_real_distribution<double> u01(-1., 1.);
     ngf::ElementInput                      in;
     in.dt         = 2e-3 * softening;
-    in.body_force = Tensor<1, 3>({0., 0., -0.62 * 2450. * 9.81});
+    // gravity along -z, and a circumferential body force b_phi, whose work b_phi N r in the
+    // theta equation depends on u_r (a Jacobian term no other test reaches)
+    in.body_force = Tensor<1, 3>({0., 0.3 * 0.62 * 2450. * 9.81, -0.62 * 2450. * 9.81});
     // a twist theta of 0.3 rad over the element width plus small radial and vertical displacements;
     // F^p_n = exp(-E^e) F(x_q), so that the elastic strain is E^e ~ 4e-4 (times the softening)
     for (const auto &v : vertices)
