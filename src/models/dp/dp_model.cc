@@ -1342,12 +1342,6 @@ namespace granflow::dp
     void
     Problem::warn_about_zones(const PointFields &pf)
     {
-      const double      max_D0       = pf.max_D0;
-      const std::size_t n_rigid      = pf.n_rigid;
-      const std::size_t n_flowing    = pf.n_flowing;
-      const std::size_t n_dilating   = pf.n_dilating;
-      const double      rigid_D0_min = pf.rigid_D0_min;
-      const double      rigid_D0_max = pf.rigid_D0_max;
       // The zones separate rigid from flowing material only down to the rigid threshold, which
       // the tolerance sets. A loose tolerance (a stalled run's remedy) makes slowly shearing
       // material "rigid": a silo at Solver/Tolerance = 1e-2 had its whole bulk rigid, the
@@ -1358,18 +1352,18 @@ namespace granflow::dp
       // any admissible field in equilibrium with the loads is a solution, and the method picks
       // one (a closed silo's floor carried 43.1 with the interior point, 51.0 with the fixed
       // point, of a weight of 65).
-      const bool all_rigid = n_rigid > 0 && n_flowing == 0 && n_dilating == 0;
+      const bool all_rigid = pf.n_rigid > 0 && pf.n_flowing == 0 && pf.n_dilating == 0;
       if (all_rigid)
         {
           std::ostringstream w;
           w << std::setprecision(3)
             << "the material is rigid at every point (each point's abs D0 is below its rigid "
                "threshold, at least "
-            << rigid_D0_min << "; the largest abs D0 is " << max_D0 << "): ";
+            << pf.rigid_D0_min << "; the largest abs D0 is " << pf.max_D0 << "): ";
           // At rest the strain rates are the solver's noise, far below the threshold (a closed
           // silo at 1e-6: 3 % of it); within a decade of it, a slow flow is counted rigid (the
           // shipped silo at a tolerance of 5e-2, which discharges, has every point "rigid").
-          if (max_D0 > 0.1 * rigid_D0_min)
+          if (pf.max_D0 > 0.1 * pf.rigid_D0_min)
             w << "the strain rates are within a decade of the threshold, so a slow flow cannot be "
                  "told from rest at Solver/Tolerance = "
               << prm.solver.tolerance << " (lower it: README, Output directory); ";
@@ -1379,14 +1373,15 @@ namespace granflow::dp
           warn(w.str());
         }
       // (a body rigid everywhere has no flow to separate: the warning above covers it)
-      if (!all_rigid && n_rigid > 0 && max_D0 > 0. && rigid_D0_max > 0.01 * max_D0)
+      if (!all_rigid && pf.n_rigid > 0 && pf.max_D0 > 0. && pf.rigid_D0_max > 0.01 * pf.max_D0)
         {
           std::ostringstream w;
           w << std::setprecision(3)
             << "the zones cannot separate rigid from slowly flowing material: 'rigid' means abs "
                "D0 below "
-            << rigid_D0_max << ", " << 100. * rigid_D0_max / max_D0 << " % of the largest abs D0 ("
-            << max_D0 << "), because of Solver/Tolerance = " << prm.solver.tolerance
+            << pf.rigid_D0_max << ", " << 100. * pf.rigid_D0_max / pf.max_D0
+            << " % of the largest abs D0 (" << pf.max_D0
+            << "), because of Solver/Tolerance = " << prm.solver.tolerance
             << "; lower the tolerance for a zone map (README, Output directory)";
           warn(w.str());
         }
@@ -1751,14 +1746,6 @@ namespace granflow::dp
     Problem::postprocess(Results &results)
     {
       const PointFields          pf           = point_fields();
-      const std::vector<double> &p            = pf.p;
-      const double               max_D0       = pf.max_D0;
-      const double               max_div      = pf.max_div;
-      const std::size_t          n_rigid      = pf.n_rigid;
-      const std::size_t          n_flowing    = pf.n_flowing;
-      const std::size_t          n_dilating   = pf.n_dilating;
-      const double               rigid_D0_min = pf.rigid_D0_min;
-      const double               rigid_D0_max = pf.rigid_D0_max;
       nlohmann::json            &S            = results.summary;
       S["traction_free_boundaries"]           = traction_free;
       S["case"]                               = prm.name;
@@ -1789,15 +1776,15 @@ namespace granflow::dp
       // as in the ngf summary: whether the run reached its tolerance, and whether a signal ended it
       S["converged"]   = solver_json.value("converged", false);
       S["interrupted"] = solver_json.value("interrupted", false);
-      S["zones"]       = {{"rigid_points", n_rigid},
-                          {"flowing_points", n_flowing},
-                          {"dilating_points", n_dilating},
-                          {"max_div_u", max_div},
-                          {"max_deviatoric_strain_rate", max_D0},
+      S["zones"]       = {{"rigid_points", pf.n_rigid},
+                          {"flowing_points", pf.n_flowing},
+                          {"dilating_points", pf.n_dilating},
+                          {"max_div_u", pf.max_div},
+                          {"max_deviatoric_strain_rate", pf.max_D0},
                           {"rigid_means_deviatoric_strain_rate_below",
-                           {{"min", rigid_D0_min}, {"max", rigid_D0_max}}}};
-      S["pressure"]    = {{"min", *std::min_element(p.begin(), p.end())},
-                          {"max", *std::max_element(p.begin(), p.end())}};
+                           {{"min", pf.rigid_D0_min}, {"max", pf.rigid_D0_max}}}};
+      S["pressure"]    = {{"min", *std::min_element(pf.p.begin(), pf.p.end())},
+                          {"max", *std::max_element(pf.p.begin(), pf.p.end())}};
       warn_about_zones(pf);
       write_velocity_profile(S, pf);
       summarise_drag(S, pf, summarise_fluxes(S));
