@@ -425,17 +425,17 @@ check ngf-band-narrower-than-an-element 0 "warning: the shear band is narrower t
   "$GRANFLOW" run "$ngf_case" --output ngf_local --set "Solver/Fluidity=local" --set "Output/Reference=none"
 check ngf-band-reaches-the-far-wall 0 "warning: the flow reaches the far boundary" "$GRANFLOW" run \
   "$ngf_case" --output ngf_shallow --set "Geometry/Depth=4" --set "Loading/Wall speed=10"
-# The local model's band stays in one element at every resolution: its warning does not advise
-# refining (it did), and names the nonlocal model.
-check ngf-local-band-advice 0 "refining does not resolve it: Solver/Fluidity = nonlocal does" \
+# The local model's band stays in one element at low rates at every resolution: its warning says
+# so and names the nonlocal model.
+check ngf-local-band-advice 0 "if the band stays within one element, the local model is localising" \
   "$GRANFLOW" run "$ngf_case" --output ngf_local --set "Solver/Fluidity=local" --set "Output/Reference=none"
 # A nonlocal band of under 3 elements (W/d = 1.59 at h = d), increments that bias mu_wall, and
 # elastic strains far above the model's 1e-4 are each warned about.
-check ngf-band-few-elements 0 "warning: the shear band spans only 1.59 elements" "$GRANFLOW" run \
+check ngf-band-few-elements 0 "warning: the shear band spans only" "$GRANFLOW" run \
   "$ngf_case" --output ngf_coarse --set "Geometry/Element size=1" --set "Output/Write vtu=false"
-check ngf-large-increments 0 "warning: the run ended on increments of 0.0482 d" "$GRANFLOW" run \
+check ngf-large-increments 0 "warning: the run ended on increments of" "$GRANFLOW" run \
   "$ngf_case" --output ngf_incr --set "Solver/Max increment=0.05" --set "Output/Write vtu=false"
-check ngf-elastic-range 0 "0.0397 times the smaller elastic modulus" "$GRANFLOW" run "$ngf_case" \
+check ngf-elastic-range 0 "times the smaller elastic modulus: elastic strains that large" "$GRANFLOW" run "$ngf_case" \
   --output ngf_soft --set "Material/Shear modulus=1e4" --set "Output/Write vtu=false"
 # An outward fluidity flux cannot be met at rest (g >= 0): the loading step says so, and the
 # summary has no mu_wall (null, not 0).

@@ -214,6 +214,8 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
   EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-7);
   EXPECT_LE(cone_residual(data, ResidualKind::fischer_burmeister, solution.lambda, gamma), 1e-7);
   const auto cases = expect_complementarity(data, solution.lambda, gamma, 1e-7);
+  EXPECT_GT(cases[0], 0) << "a separating point is exercised";
+  EXPECT_GT(cases[2], 0) << "a sliding point is exercised";
   RecordProperty("separating_rigid_sliding", std::to_string(cases[0]) + " " +
                                                  std::to_string(cases[1]) + " " +
                                                  std::to_string(cases[2]));

@@ -19,7 +19,7 @@ class Bagnold : public ::testing::TestWithParam<double>
 {
 };
 
-TEST_P(Bagnold, VelocityAndShearRateWithinTwoPercent)
+TEST_P(Bagnold, VelocityAndShearRateMatchTheAnalyticProfile)
 {
   const double      Re         = GetParam();
   const std::string case_file = std::string(GRANFLOW_SOURCE_DIR) + "/cases/daviet2016/bagnold.prm";
@@ -63,8 +63,8 @@ TEST_P(Bagnold, VelocityAndShearRateWithinTwoPercent)
       ++rows;
     }
   ASSERT_GT(rows, 50);
-  // The issue asks for 2 %; measured 1.1e-4 and 1.07e-3 (Re = 1 and 2), so a regression far
-  // inside the issue's bound shows: 5e-4 and 5e-3.
+  // The issue asks for 2 %. Measured: velocity 1.08e-4 and shear rate 1.07e-3 at Re = 1 (1.06e-4,
+  // 1.06e-3 at Re = 2); bounds of 5e-4 and 5e-3 show a regression far inside the issue's.
   EXPECT_LE(err_u / max_u, 5e-4);
   EXPECT_LE(err_du / max_du, 5e-3);
   // The summary's own comparison uses the same analytic solution.

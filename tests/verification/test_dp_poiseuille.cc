@@ -74,8 +74,9 @@ TEST_P(BinghamPoiseuille, ProfileWithinOnePercentAndRigidPlug)
 INSTANTIATE_TEST_SUITE_P(Daviet611, BinghamPoiseuille, ::testing::Values(0.1, 0.3, 0.5, 0.7, 0.9));
 
 // DP(mu, Bi) with mu > 0 end to end: with an external pressure P on both ends of the channel, the
-// flow is parallel, tau_xx = 0 and p = P everywhere, so the yield condition |lambda_T| <= mu
-// lambda_N + Bi (the truncated cone of 4.5.2; lambda_N = p in 2D, Property 2) is Bingham's with
+// continuum's flow is parallel, tau_xx = 0 and p = P everywhere (the discrete P1d point pressures
+// oscillate about it; in the plug the stress is not unique), so the yield condition |lambda_T| <=
+// mu lambda_N + Bi (the truncated cone of 4.5.2; lambda_N = p in 2D, Property 2) is Bingham's with
 // Bi + mu P: the profile is the Bingham profile at that Bingham number. Both solvers, each in the
 // cone it handles: the fixed point with mu and Bi, the interior point with mu alone; measured
 // 0.12 % and 0.14 % off at h = 0.1 (0.031 % and 0.042 % on the case's mesh).

@@ -72,9 +72,9 @@ namespace granflow::dp
     prm.enter_subsection("Rheology");
     {
       auto &r = rheology;
-      // In 2D mu = sin(phi), phi the angle of friction (Daviet & Bertails-Descoubes 2016, after
-      // (4)), so mu >= 1 is no material; both solvers fail on a closed hopper at mu = 2 (and the
-      // interior point on one at mu = 1).
+      // In 2D mu = sin(phi), phi the angle of friction (Daviet & Bertails-Descoubes 2016, 3.1.1,
+      // after (1)), so mu >= 1 is no material. (Near 1 the solvers fail: on a closed hopper at
+      // mu = 2 both did, at mu = 1 the interior point did.)
       prm.add_parameter(
           "mu", r.mu,
           "Friction coefficient mu of DP(mu, Bi), in [0, 1): mu = sin(phi) in 2D, phi "
