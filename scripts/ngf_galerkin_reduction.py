@@ -17,8 +17,9 @@ at the nodes, to show how sensitive the coarse-mesh answer is to that choice; an
 flow rule evaluated with the element-mean fluidity, so that mu does not split between an
 element's Gauss points (docs/ngf.md).
 
-Writes OUT_DIR/galerkin_reduction_column.csv and prints the table.
-  /usr/bin/python3 scripts/ngf_galerkin_reduction.py [BUILD_DIR] [OUT_DIR]
+Writes OUT_DIR/galerkin_reduction_column.csv and prints the table. P_WALL (default 6.67) is
+P_wall/(phi rho_s G d), for the FD solution, the reduction and the FE runs alike.
+  /usr/bin/python3 scripts/ngf_galerkin_reduction.py [BUILD_DIR] [OUT_DIR] [P_WALL]
 Dimensionless units: z~ = z/d, g~ = g sqrt(d/G), p~ = p/(rho_s G d), v~ = v/sqrt(G d), so that
 g_loc~ = sqrt(p~) (mu - mu_s)/(b mu), xi~ = A/sqrt|mu - mu_s|, gammadot~ = g~ mu.
 """
@@ -31,7 +32,8 @@ from scipy.sparse.linalg import spsolve
 MU_S, B, A = 0.3819, 0.9377, 0.48
 PHI = 0.62
 D = 20.0
-PW = 6.67 * PHI          # P_wall / (rho_s G d)
+P_WALL = float(sys.argv[3]) if len(sys.argv) > 3 else 6.67  # P_wall / (phi rho_s G d)
+PW = P_WALL * PHI        # P_wall / (rho_s G d)
 VW = 1e-3                # v_wall / sqrt(G d)
 XI_CAP = 1000.0
 
@@ -191,7 +193,7 @@ def main():
         pth = os.path.join(runs, size)
         subprocess.run([os.path.join(build, "apps", "granflow"), "run", "cases/henann2016/linear_shear_gravity.prm",
                         "--quiet", "--output", pth, "--set", f"Geometry/Element size={size}",
-                        "--set", "Loading/Wall pressure=6.67", "--set", "Loading/Wall speed=1e-3",
+                        "--set", f"Loading/Wall pressure={P_WALL}", "--set", "Loading/Wall speed=1e-3",
                         "--set", "Output/Write vtu=false", "--set", "Output/Reference=none"],
                        check=True, stdout=subprocess.DEVNULL)
         dat = np.genfromtxt(os.path.join(pth, 'profiles/velocity.csv'), delimiter=',', names=True)

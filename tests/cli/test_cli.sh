@@ -427,7 +427,7 @@ check ngf-band-reaches-the-far-wall 0 "warning: the flow reaches the far boundar
   "$ngf_case" --output ngf_shallow --set "Geometry/Depth=4" --set "Loading/Wall speed=10"
 # The local model's band stays in one element at low rates at every resolution: its warning says
 # so and names the nonlocal model.
-check ngf-local-band-advice 0 "if the band stays within one element, the local model is localising" \
+check ngf-local-band-advice 0 "if W/d keeps shrinking with h, the local model is localising" \
   "$GRANFLOW" run "$ngf_case" --output ngf_local --set "Solver/Fluidity=local" --set "Output/Reference=none"
 # A nonlocal band of under 3 elements (W/d = 1.59 at h = d), increments that bias mu_wall, and
 # elastic strains far above the model's 1e-4 are each warned about.

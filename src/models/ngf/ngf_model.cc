@@ -56,12 +56,13 @@ namespace granflow::ngf
     /// collapses into the first element at every resolution (Henann & Kamrin 2016, Fig. 7b; mu(I)
     /// is ill posed at low I, Barker et al. 2015): the column at v_wall = 1e-3 refined from h = d /
     /// 3 to d / 90 kept its band in one element (W = 0.63 h), mu_wall 0.391, 0.382, 0.372, 0.388.
-    /// At higher rates refining does resolve it (v_wall = 0.1: 1.5 elements at d / 3, 4.4 at d / 9,
-    /// mu_wall the same to 3e-5).
+    /// (W/d 0.211, 0.070, 0.051 at d / 3, d / 9, d / 27: the band's element count is no test, it
+    /// reaches 1.4 at d / 27.) At higher rates refining does resolve it (v_wall = 0.1: 1.5
+    /// elements at d / 3, 4.4 at d / 9, W/d 0.511 and 0.494, mu_wall the same to 3e-5).
     constexpr const char *local_localises =
-        "refine Geometry/Element size; if the band stays within one element, the local model is "
-        "localising, as it does at low rates at every resolution (Henann & Kamrin Fig. 7), and "
-        "Solver/Fluidity = nonlocal resolves the band";
+        "refine Geometry/Element size; if W/d keeps shrinking with h, the local model is "
+        "localising, as it does at low rates (Henann & Kamrin Fig. 7), and Solver/Fluidity = "
+        "nonlocal resolves the band";
 
     /// One run of a geometry: dim = 3 are bricks (the shear column of Henann 6.1, the annulus slice
     /// of 6.3), dim = 2 an annulus section of generalized-axisymmetric quads (6.2, 6.3). Nodal
