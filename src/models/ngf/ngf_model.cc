@@ -183,6 +183,13 @@ namespace granflow::ngf
       postprocess(nlohmann::json &summary, const Vector<double> &velocity, bool finished);
       void
       compare_rate_dependent_part(nlohmann::json &summary, double mu_wall) const;
+      /// What a warning on an unresolved band advises: refining, or for the local model
+      /// `local_localises`.
+      const char *
+      refine_advice() const
+      {
+        return prm.solver.fluidity == "local" ? local_localises : "refine Geometry/Element size";
+      }
       void
       write_vtu(const Vector<double> &velocity);
 
@@ -1119,10 +1126,8 @@ namespace granflow::ngf
                  "as g = 0 or a g_wall below the fluidity beside the wall does: the boundary "
                  "layer this makes needs h well below d, docs/ngf.md; refine Geometry/Element "
                  "size)";
-          else if (prm.solver.fluidity == "local")
-            w << " (" << local_localises << ")";
           else
-            w << " (refine Geometry/Element size)";
+            w << " (" << refine_advice() << ")";
           warn(w.str());
         }
       // The band's own warnings only for a run that reached a steady flow: before that, the
@@ -1510,8 +1515,7 @@ namespace granflow::ngf
               w << "the shear band is narrower than one element (W/d = " << W
                 << " < h/d = " << scale.h / d
                 << "): W/d is interpolated inside the first element and depends on the mesh; "
-                << (prm.solver.fluidity == "local" ? local_localises
-                                                   : "refine Geometry/Element size");
+                << refine_advice();
               warn(w.str());
             }
           // A band of a few elements is resolved, but coarsely: in the shear column at
@@ -1525,8 +1529,7 @@ namespace granflow::ngf
                 << " elements (W/d = " << W << ", h/d = " << scale.h / d
                 << "): at fewer than 3, mu_wall, W/d and the profile carry discretisation errors "
                    "of several per cent (docs/ngf.md); "
-                << (prm.solver.fluidity == "local" ? local_localises
-                                                   : "refine Geometry/Element size");
+                << refine_advice();
               warn(w.str());
             }
         }
