@@ -145,6 +145,45 @@ namespace granflow::ngf
       /// Nodal velocity (v_x, v_y, v_z, dg/dt) or (v_r, v_z, v_theta = r dtheta/dt, dg/dt).
       Vector<double>
       velocity(double dt) const;
+      /// What march() leaves of a run: the last converged shear increment's wall displacement,
+      /// mu_wall, velocity and rate, the Newton counts, the state at the start of the steadiness
+      /// window, the history, and why the run stopped short (`failure`, empty if it completed).
+      struct RunState
+      {
+        double         u_wall = 0., mu_wall = 0.;
+        double         last_step = 0.; // wall displacement of the last shear increment
+        unsigned int   increment = 0, total_iterations = 0, cuts = 0, max_iterations = 0;
+        Vector<double> v, rate;
+        bool           loading     = true;  // no increment has converged
+        bool           interrupted = false; // failure: a stop request (core/interrupt.h)
+        std::string    failure;             // set when an increment cannot be completed
+        // the last state at or before the start of the steadiness window (u_wall_window < 0:
+        // none)
+        double              u_wall_window = -1., mu_wall_window = 0.;
+        Vector<double>      v_window;
+        std::vector<double> h_disp, h_mu, h_iter; // per increment: the history.csv columns
+      };
+      /// The increments: the loading step, then the wall's motion to Loading/Wall displacement
+      /// (or rotation), with increments adapted to Newton and cut when it fails.
+      RunState
+      march();
+      /// Wall displacement over which steadiness is judged at the end of the run.
+      double
+      steady_window() const;
+      /// summary.json's description of the run: case, mesh, loading, mu_wall, Newton counts.
+      nlohmann::json
+      describe_run(const RunState &s) const;
+      /// summary.json's `steady_state` and, if the run is not steady, why.
+      std::pair<nlohmann::json, std::string>
+      judge_steadiness(const RunState &s) const;
+      /// Warnings on how the run ended: a Newton failure, no steady state, large increments.
+      void
+      warn_about_run(const RunState &s, bool steady, const std::string &why_not_steady);
+      void
+      warn_if_below_mu_s(double mu_wall);
+      /// The 3D cells' volume-change spread, and the slice's warning when it drifts.
+      void
+      report_distortion(nlohmann::json &summary);
       void
       warn_if_outside_elastic_range();
       void
@@ -837,67 +876,51 @@ namespace granflow::ngf
     }
 
     template <int dim>
-    Results
-    Problem<dim>::run()
+    double
+    Problem<dim>::steady_window() const
     {
-      compute_reference();
-      make_mesh();
-      setup_system();
-      const double d = scale.d;
-      log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
-                (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
-                ", h/d = " + std::to_string(scale.h / d) + ", " +
-                std::to_string(dof_handler.n_dofs()) + " dofs\n");
-      warn_if_outside_elastic_range();
-      log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
-                  << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u"
-                  << std::setw(12) << "R_g" << '\n';
+      // the last tenth of the run, but at least its last 0.1 d (the default column's tenth; a
+      // tenth of a short run changes too little to tell)
+      return std::max(0.1 * scale.u_end, std::min(0.1 * scale.d, scale.u_end));
+    }
 
+    template <int dim>
+    typename Problem<dim>::RunState
+    Problem<dim>::march()
+    {
       // Increment 0 loads the body (gravity, wall pressure) with the wall at rest; then the wall
       // moves at v_wall. Increments adapt to the Newton iteration count.
-      double                    du     = prm.solver.first_increment * d;
-      double                    u_wall = 0., mu_wall = 0.;
-      unsigned int              increment = 0, total_iterations = 0, cuts = 0, max_iterations = 0;
-      Vector<double>            rate(U.size()), v(U.size());
+      const double              d  = scale.d;
+      double                    du = prm.solver.first_increment * d;
+      RunState                  s;
       AffineConstraints<double> step_constraints;
-      bool                      loading = true;
-      std::string               failure;                // set when an increment cannot be completed
-      bool                      interrupted = false; // failure: a stop request (core/interrupt.h)
-      // Steadiness is judged over the last tenth of the run, but over at least its last 0.1 d
-      // (the default column's tenth; a tenth of a short run changes too little to tell): mu_wall
-      // and v at the window's start and at the end.
-      constexpr double steady_mu_tolerance = 1e-3, steady_velocity_tolerance = 1e-2;
-      const double     steady_window =
-          std::max(0.1 * scale.u_end, std::min(0.1 * d, scale.u_end)); // of wall displacement
-      double              u_wall_window = -1., mu_wall_window = 0.;
-      double              last_step = 0.; // wall displacement of the last shear increment
-      Vector<double>      v_window;
-      std::vector<double> h_disp, h_mu, h_iter; // per increment: the history.csv columns
-      while (loading || u_wall < scale.u_end * (1. - 1e-12))
+      s.v.reinit(U.size());
+      s.rate.reinit(U.size());
+      while (s.loading || s.u_wall < scale.u_end * (1. - 1e-12))
         {
           // What is left is divided into equal increments of at most du, so that the run ends
           // on increments of the size it has been taking: smaller ones at the end would move
           // mu_wall by the increment-size dependence of the time integration (0.1 % between
           // 0.005 d and 0.0025 d increments in the column, docs/ngf.md). With du fixed, this
           // gives the same step at every increment to the end.
-          const double remaining = scale.u_end - u_wall;
+          const double remaining = scale.u_end - s.u_wall;
           const double step =
-              loading ? 0. : remaining / std::max(1., std::ceil(remaining / du - 1e-9));
-          const double dt   = (loading ? du : step) / scale.v_wall;
-          predict(rate, dt);
-          make_constraints(step_constraints, u_wall + step, false);
+              s.loading ? 0. : remaining / std::max(1., std::ceil(remaining / du - 1e-9));
+          const double dt = (s.loading ? du : step) / scale.v_wall;
+          predict(s.rate, dt);
+          make_constraints(step_constraints, s.u_wall + step, false);
           step_constraints.distribute(U);
           unsigned int iterations = 0;
-          if (!newton(dt, increment, iterations))
+          if (!newton(dt, s.increment, iterations))
             {
               du *= 0.25;
-              ++cuts;
+              ++s.cuts;
               if (du < 1e-6 * prm.solver.first_increment * d)
                 {
                   U = U_n;
                   // the converged state: with dt = 0 the update returns it unchanged
                   assemble(0., false);
-                  failure = newton_failure(loading, dt, du, u_wall);
+                  s.failure = newton_failure(s.loading, dt, du, s.u_wall);
                   break;
                 }
               continue;
@@ -906,46 +929,53 @@ namespace granflow::ngf
           for (unsigned int c = 0; c < points.size(); ++c)
             for (unsigned int q = 0; q < points[c].size(); ++q)
               Fp_n[c][q] = points[c][q].Fp;
-          if (!loading)
+          if (!s.loading)
             {
-              v          = velocity(dt);
-              rate       = increment_rate(dt);
-              u_wall += step;
-              last_step = step;
-              mu_wall   = wall_stress_ratio();
+              s.v    = velocity(dt);
+              s.rate = increment_rate(dt);
+              s.u_wall += step;
+              s.last_step = step;
+              s.mu_wall   = wall_stress_ratio();
               // The last state at or before the start of the window, for the steadiness verdict.
-              if (u_wall <= scale.u_end - steady_window * (1. - 1e-12))
+              if (s.u_wall <= scale.u_end - steady_window() * (1. - 1e-12))
                 {
-                  u_wall_window  = u_wall;
-                  mu_wall_window = mu_wall;
-                  v_window       = steady_velocity(v, rate);
+                  s.u_wall_window  = s.u_wall;
+                  s.mu_wall_window = s.mu_wall;
+                  s.v_window       = steady_velocity(s.v, s.rate);
                 }
-              h_disp.push_back(u_wall / d);
-              h_mu.push_back(mu_wall);
-              h_iter.push_back(iterations);
+              s.h_disp.push_back(s.u_wall / d);
+              s.h_mu.push_back(s.mu_wall);
+              s.h_iter.push_back(iterations);
             }
           U_n = U;
-          total_iterations += iterations;
-          max_iterations = std::max(max_iterations, iterations);
-          ++increment;
-          loading = false;
+          s.total_iterations += iterations;
+          s.max_iterations = std::max(s.max_iterations, iterations);
+          ++s.increment;
+          s.loading = false;
           if (iterations <= 4)
             du = std::min(du * prm.solver.growth, prm.solver.max_increment * d);
           std::ostringstream p;
-          p << "increment " << increment << ": wall displacement " << u_wall / d << " d of "
-            << scale.u_end / d << ", mu_wall " << mu_wall << ", " << iterations
+          p << "increment " << s.increment << ": wall displacement " << s.u_wall / d << " d of "
+            << scale.u_end / d << ", mu_wall " << s.mu_wall << ", " << iterations
             << " Newton iterations";
           log.progress(p.str());
           if (interrupt::requested())
             {
-              interrupted = true;
-              failure     = std::string("stopped by ") + interrupt::signal_name() +
-                        " after increment " + std::to_string(increment - 1) + " (of a run to " +
-                        std::to_string(scale.u_end / d) + " d)";
+              s.interrupted = true;
+              s.failure     = std::string("stopped by ") + interrupt::signal_name() +
+                          " after increment " + std::to_string(s.increment - 1) + " (of a run to " +
+                          std::to_string(scale.u_end / d) + " d)";
               break;
             }
         }
+      return s;
+    }
 
+    template <int dim>
+    nlohmann::json
+    Problem<dim>::describe_run(const RunState &s) const
+    {
+      const double   d = scale.d;
       nlohmann::json summary;
       summary["case"]     = prm.name;
       summary["model"]    = "ngf";
@@ -974,130 +1004,120 @@ namespace granflow::ngf
         }
       // null until an increment past the loading step has converged (there is no wall reaction
       // of a sheared state before)
-      summary["mu_wall"] = u_wall > 0. ? nlohmann::json(mu_wall) : nlohmann::json(nullptr);
+      summary["mu_wall"] = s.u_wall > 0. ? nlohmann::json(s.mu_wall) : nlohmann::json(nullptr);
       summary["newton"]  = {
-           {"increments", increment},
-           {"iterations", total_iterations},
-           {"iterations_per_increment", double(total_iterations) / std::max(1U, increment)},
-           {"max_iterations", max_iterations},
-           {"increment_cuts", cuts}};
+           {"increments", s.increment},
+           {"iterations", s.total_iterations},
+           {"iterations_per_increment", double(s.total_iterations) / std::max(1U, s.increment)},
+           {"max_iterations", s.max_iterations},
+           {"increment_cuts", s.cuts},
+           {"last_increment_over_d", s.last_step / d}};
+      summary["wall_displacement_over_d"] = s.u_wall / d;
+      return summary;
+    }
+
+    template <int dim>
+    std::pair<nlohmann::json, std::string>
+    Problem<dim>::judge_steadiness(const RunState &s) const
+    {
       // Steadiness over the window (the issue's "run until the velocity field and the wall stress
       // ratio are steady"): the relative change of mu_wall and the largest change of the
       // wall-parallel velocity, over v_wall. While the body is still loading elastically, mu_wall
       // grows in proportion to the wall displacement, so the first test catches runs that are
       // too short to yield.
-      nlohmann::json steady = {{"window_over_d", 0.}, {"steady", false}};
-      std::ostringstream why_not_steady;
-      const bool         completed = u_wall >= scale.u_end * (1. - 1e-12);
-      if (completed && u_wall_window >= 0.)
+      constexpr double   steady_mu_tolerance = 1e-3, steady_velocity_tolerance = 1e-2;
+      const double       d      = scale.d;
+      nlohmann::json     steady = {{"window_over_d", 0.}, {"steady", false}};
+      std::ostringstream why_not;
+      why_not << std::setprecision(3);
+      const bool completed = s.u_wall >= scale.u_end * (1. - 1e-12);
+      if (completed && s.u_wall_window >= 0.)
         {
-          const Vector<double> v_end = steady_velocity(v, rate);
+          const Vector<double> v_end = steady_velocity(s.v, s.rate);
           double               dv    = 0.;
-          for (types::global_dof_index i = 0; i < v.size(); ++i)
-            dv = std::max(dv, std::abs(v_end[i] - v_window[i]) / scale.v_wall);
+          for (types::global_dof_index i = 0; i < v_end.size(); ++i)
+            dv = std::max(dv, std::abs(v_end[i] - s.v_window[i]) / scale.v_wall);
           // (a mu_wall of exactly 0, a body not loaded at all, is steady if it stays 0)
-          const double dmu = mu_wall == mu_wall_window
+          const double dmu = s.mu_wall == s.mu_wall_window
                                  ? 0.
-                                 : std::abs(mu_wall - mu_wall_window) / std::abs(mu_wall);
-          steady           = {{"window_over_d", (u_wall - u_wall_window) / d},
+                                 : std::abs(s.mu_wall - s.mu_wall_window) / std::abs(s.mu_wall);
+          steady           = {{"window_over_d", (s.u_wall - s.u_wall_window) / d},
                               {"mu_wall_relative_change", dmu},
                               {"velocity_change_over_v_wall", dv},
                               {"steady", dmu <= steady_mu_tolerance && dv <= steady_velocity_tolerance}};
-          why_not_steady << std::setprecision(3) << "not steady over the last "
-                         << (u_wall - u_wall_window) / d << " d of wall displacement (of "
-                         << u_wall / d << " d): mu_wall changed by " << dmu << " of itself (limit "
-                         << steady_mu_tolerance << ") and the velocity by " << dv
-                         << " v_wall (limit " << steady_velocity_tolerance << ")";
+          why_not << "not steady over the last " << (s.u_wall - s.u_wall_window) / d
+                  << " d of wall displacement (of " << s.u_wall / d << " d): mu_wall changed by "
+                  << dmu << " of itself (limit " << steady_mu_tolerance << ") and the velocity by "
+                  << dv << " v_wall (limit " << steady_velocity_tolerance << ")";
         }
       else if (!completed)
-        why_not_steady << std::setprecision(3) << "not steady: the run stopped at " << u_wall / d
-                       << " d of wall displacement, before the last " << steady_window / d
-                       << " d over which steadiness is judged";
-      else if (steady_window >= scale.u_end * (1. - 1e-12))
-        why_not_steady << std::setprecision(3) << "not steady: a run of " << scale.u_end / d
-                       << " d of wall displacement is too short to tell (steadiness compares the "
-                          "end with the state 0.1 d of wall displacement before it)";
+        why_not << "not steady: the run stopped at " << s.u_wall / d
+                << " d of wall displacement, before the last " << steady_window() / d
+                << " d over which steadiness is judged";
+      else if (steady_window() >= scale.u_end * (1. - 1e-12))
+        why_not << "not steady: a run of " << scale.u_end / d
+                << " d of wall displacement is too short to tell (steadiness compares the "
+                   "end with the state 0.1 d of wall displacement before it)";
       else
-        why_not_steady << std::setprecision(3) << "not steady: the run is barely longer than the "
-                       << steady_window / d
-                       << " d of wall displacement over which steadiness is judged (its first "
-                          "increment reaches into them)";
-      summary["steady_state"] = steady;
-      if (!failure.empty() && !interrupted)
+        why_not << "not steady: the run is barely longer than the " << steady_window() / d
+                << " d of wall displacement over which steadiness is judged (its first "
+                   "increment reaches into them)";
+      return {steady, why_not.str()};
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::warn_about_run(const RunState &s, const bool steady,
+                                 const std::string &why_not_steady)
+    {
+      const double d = scale.d;
+      if (!s.failure.empty() && !s.interrupted)
         {
           std::ostringstream w;
           w << std::setprecision(3) << "Newton failed (see the log): ";
-          if (loading)
+          if (s.loading)
             w << "no increment converged, not even the loading step (gravity and wall pressure "
                  "with the wall at rest); the fields are the unloaded start";
-          else if (u_wall == 0.)
+          else if (s.u_wall == 0.)
             w << "the results are those of the loaded body at rest, before any shear";
           else
-            w << "the results are those of the last converged increment, at " << u_wall / d
+            w << "the results are those of the last converged increment, at " << s.u_wall / d
               << " d of wall displacement of " << scale.u_end / d << " d, not of a steady flow";
           warn(w.str());
         }
-      if ((failure.empty() || interrupted) && !steady["steady"].get<bool>())
-        warn(why_not_steady.str() +
-             (interrupted ? ": rerun it to the end before using mu_wall, W/d or the profiles as "
-                            "steady results"
-              : slice     ? ": run further (Loading/Wall rotation) before using mu_wall, W/d or "
-                            "the profiles as steady results; beyond about 6 degrees the slice "
-                            "drifts from the quad section (docs/ngf.md), which is the one for "
-                            "long runs"
-                          : ": run further (Loading/Wall displacement or Wall rotation) before "
-                            "using mu_wall, W/d or the profiles as steady results"));
+      if ((s.failure.empty() || s.interrupted) && !steady)
+        warn(why_not_steady +
+             (s.interrupted ? ": rerun it to the end before using mu_wall, W/d or the profiles as "
+                              "steady results"
+              : slice       ? ": run further (Loading/Wall rotation) before using mu_wall, W/d or "
+                              "the profiles as steady results; beyond about 6 degrees the slice "
+                              "drifts from the quad section (docs/ngf.md), which is the one for "
+                              "long runs"
+                            : ": run further (Loading/Wall displacement or Wall rotation) before "
+                              "using mu_wall, W/d or the profiles as steady results"));
       // The implicit, first-order time integration (Section 4) gives a steady state that depends
       // on the increment: in the shear column, mu_wall is about 10 % x (increment / d) below its
       // increment-converged value (-0.08 % at the default 0.01 d, -0.5 % at 0.05 d, -2.3 % at
       // 0.2 d; docs/ngf.md). Steadiness cannot see that bias, so large increments are named.
-      summary["newton"]["last_increment_over_d"] = last_step / d;
-      if (failure.empty() && last_step > 0.025 * d)
+      if (s.failure.empty() && s.last_step > 0.025 * d)
         {
           std::ostringstream w;
-          w << std::setprecision(3) << "the run ended on increments of " << last_step / d
+          w << std::setprecision(3) << "the run ended on increments of " << s.last_step / d
             << " d of wall displacement: the implicit time integration then lowers the steady "
                "mu_wall by about "
-            << 10. * last_step / d
+            << 10. * s.last_step / d
             << (column ? " % (docs/ngf.md)"
                        : " % (the shear column's rate, docs/ngf.md; in the "
                          "annuli it differs)")
             << "; lower Solver/Max increment (default 0.01) for results to 0.1 %";
           warn(w.str());
         }
-      // The slice's Lagrangian cells turn with the material, each radial line by its own angle.
-      // A cell whose inner nodes have turned by dtheta more than its outer ones is stretched
-      // around the arc by about r dtheta, while its faces Theta = const turn by dtheta: the
-      // trilinear map then changes volume across the cell by about r dtheta^2 / h, growing as
-      // the square of the rotation. F-bar hides it from the pressure, not from the deviatoric
-      // strain at the Gauss points, and the flow drifts from the quad section's, whose cells
-      // stay in the (r, z) plane. Measured at h = d (docs/ngf.md): spread 0.007, 0.016, 0.029,
-      // 0.071 after 4, 6, 8, 12 degrees; surface velocity off the quad section's by 0.003,
-      // 0.009, 0.019, 0.059 of the wall speed. A wider slice distorts sooner (after 4 degrees:
-      // 0.007, 0.013, 0.019 for 0.1, 1, 2 degrees of slice; W/d 2.733, 2.708, 2.680).
-      if (dim == 3)
-        {
-          const double spread                           = volume_change_spread();
-          summary["distortion"]["volume_change_spread"] = spread;
-          if (slice && spread > 0.01)
-            {
-              std::ostringstream w;
-              w << std::setprecision(3)
-                << "the slice's cells are sheared around the arc by the wall rotation: the "
-                   "volume change at their Gauss points differs from that at their centroids by "
-                   "up to "
-                << 100. * spread
-                << " % (above 1 %, the surface velocity drifts from the quad section's: 0.009 of "
-                   "the wall speed at 1.6 %, 0.019 at 2.9 %, 0.059 at 7.1 %, docs/ngf.md); ";
-              if (prm.geometry.slice_angle > 0.1)
-                w << "a slice wider than the paper's 0.1 degree distorts sooner (Geometry/Slice "
-                     "angle = "
-                  << prm.geometry.slice_angle << "); ";
-              w << "for rotations beyond about 5 degrees use the quad section (Geometry/Shape = "
-                   "annulus)";
-              warn(w.str());
-            }
-        }
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::warn_if_below_mu_s(const double mu_wall)
+    {
       // Steady flow starts where mu >= mu_s (g_loc = 0 below it, (22)), and mu is largest at the
       // driven wall in every geometry here: below mu_s there, the mesh does not resolve the flow
       // at the wall (g = 0 there on coarse meshes, docs/ngf.md) or the body has not yielded.
@@ -1109,53 +1129,116 @@ namespace granflow::ngf
       const bool fluidity_source = std::any_of(g_dirichlet.begin(), g_dirichlet.end(), positive) ||
                                    std::any_of(g_neumann.begin(), g_neumann.end(), positive);
       const bool fed_by_boundaries = fluidity_source && boundary_fluidity_supply > 0.;
-      if (failure.empty() && !fed_by_boundaries && mu_wall < prm.material.nonlocal.mu_s)
-        {
-          std::ostringstream w;
-          w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
-            << " at the driven wall: a steady flow needs mu >= mu_s where it starts, so either the "
-               "body has not yielded, or the mesh does not resolve the flow at the wall";
-          // (with homogeneous Neumann conditions only, the supply is zero to the Newton
-          // tolerance, and its sign means nothing)
-          const bool conditions =
-              !g_dirichlet.empty() ||
-              std::any_of(g_neumann.begin(), g_neumann.end(),
-                          [](const auto &condition) { return condition.second != 0.; });
-          if (conditions && boundary_fluidity_supply < 0.)
-            w << " (the fluidity conditions take fluidity out of the body in net, "
-                 "as g = 0 or a g_wall below the fluidity beside the wall does: the boundary "
-                 "layer this makes needs h well below d, docs/ngf.md; refine Geometry/Element "
-                 "size)";
-          else
-            w << " (" << refine_advice() << ")";
-          warn(w.str());
-        }
+      if (fed_by_boundaries || mu_wall >= prm.material.nonlocal.mu_s)
+        return;
+      std::ostringstream w;
+      w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
+        << " at the driven wall: a steady flow needs mu >= mu_s where it starts, so either the "
+           "body has not yielded, or the mesh does not resolve the flow at the wall";
+      // (with homogeneous Neumann conditions only, the supply is zero to the Newton
+      // tolerance, and its sign means nothing)
+      const bool conditions =
+          !g_dirichlet.empty() ||
+          std::any_of(g_neumann.begin(), g_neumann.end(),
+                      [](const auto &condition) { return condition.second != 0.; });
+      if (conditions && boundary_fluidity_supply < 0.)
+        w << " (the fluidity conditions take fluidity out of the body in net, "
+             "as g = 0 or a g_wall below the fluidity beside the wall does: the boundary "
+             "layer this makes needs h well below d, docs/ngf.md; refine Geometry/Element "
+             "size)";
+      else
+        w << " (" << refine_advice() << ")";
+      warn(w.str());
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::report_distortion(nlohmann::json &summary)
+    {
+      // The slice's Lagrangian cells turn with the material, each radial line by its own angle.
+      // A cell whose inner nodes have turned by dtheta more than its outer ones is stretched
+      // around the arc by about r dtheta, while its faces Theta = const turn by dtheta: the
+      // trilinear map then changes volume across the cell by about r dtheta^2 / h, growing as
+      // the square of the rotation. F-bar hides it from the pressure, not from the deviatoric
+      // strain at the Gauss points, and the flow drifts from the quad section's, whose cells
+      // stay in the (r, z) plane. Measured at h = d (docs/ngf.md): spread 0.007, 0.016, 0.029,
+      // 0.071 after 4, 6, 8, 12 degrees; surface velocity off the quad section's by 0.003,
+      // 0.009, 0.019, 0.059 of the wall speed. A wider slice distorts sooner (after 4 degrees:
+      // 0.007, 0.013, 0.019 for 0.1, 1, 2 degrees of slice; W/d 2.733, 2.708, 2.680).
+      if (dim != 3)
+        return;
+      const double spread                           = volume_change_spread();
+      summary["distortion"]["volume_change_spread"] = spread;
+      if (!slice || spread <= 0.01)
+        return;
+      std::ostringstream w;
+      w << std::setprecision(3)
+        << "the slice's cells are sheared around the arc by the wall rotation: the "
+           "volume change at their Gauss points differs from that at their centroids by "
+           "up to "
+        << 100. * spread
+        << " % (above 1 %, the surface velocity drifts from the quad section's: 0.009 of "
+           "the wall speed at 1.6 %, 0.019 at 2.9 %, 0.059 at 7.1 %, docs/ngf.md); ";
+      if (prm.geometry.slice_angle > 0.1)
+        w << "a slice wider than the paper's 0.1 degree distorts sooner (Geometry/Slice "
+             "angle = "
+          << prm.geometry.slice_angle << "); ";
+      w << "for rotations beyond about 5 degrees use the quad section (Geometry/Shape = "
+           "annulus)";
+      warn(w.str());
+    }
+
+    template <int dim>
+    Results
+    Problem<dim>::run()
+    {
+      compute_reference();
+      make_mesh();
+      setup_system();
+      const double d = scale.d;
+      log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
+                (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
+                ", h/d = " + std::to_string(scale.h / d) + ", " +
+                std::to_string(dof_handler.n_dofs()) + " dofs\n");
+      warn_if_outside_elastic_range();
+      log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
+                  << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u"
+                  << std::setw(12) << "R_g" << '\n';
+
+      const RunState s             = march();
+      nlohmann::json summary       = describe_run(s);
+      const auto [steady, why_not] = judge_steadiness(s);
+      summary["steady_state"]      = steady;
+      const bool steady_flow       = steady.at("steady").template get<bool>();
+      warn_about_run(s, steady_flow, why_not);
+      report_distortion(summary);
+      if (s.failure.empty())
+        warn_if_below_mu_s(s.mu_wall);
       // The band's own warnings only for a run that reached a steady flow: before that, the
       // profile is a loading one ("not steady" says so).
-      postprocess(summary, v, failure.empty() && steady["steady"].get<bool>());
+      postprocess(summary, s.v, s.failure.empty() && steady_flow);
       if (prm.output.write_vtu)
-        write_vtu(v);
-      write_histories(h_disp, h_mu, h_iter);
-      summary["timings"]                  = {{"total_s", log.elapsed()},
-                                             {"assembly_s", assembly_seconds},
-                                             {"linear_solve_s", solve_seconds}};
-      summary["warnings"]                 = warnings;
-      summary["converged"]                = failure.empty();
-      summary["interrupted"]              = interrupted;
-      summary["wall_displacement_over_d"] = u_wall / d;
+        write_vtu(s.v);
+      write_histories(s.h_disp, s.h_mu, s.h_iter);
+      summary["timings"]     = {{"total_s", log.elapsed()},
+                                {"assembly_s", assembly_seconds},
+                                {"linear_solve_s", solve_seconds}};
+      summary["warnings"]    = warnings;
+      summary["converged"]   = s.failure.empty();
+      summary["interrupted"] = s.interrupted;
       out.write_json("summary.json", summary);
-      if (!failure.empty())
+      if (!s.failure.empty())
         {
-          const std::string message = failure + "; the last converged state (wall displacement " +
-                                      std::to_string(u_wall / d) + " d) is written to " +
+          const std::string message = s.failure + "; the last converged state (wall displacement " +
+                                      std::to_string(s.u_wall / d) + " d) is written to " +
                                       out.target() + " (see log.txt)";
-          if (interrupted)
+          if (s.interrupted)
             throw Interrupted(message, interrupt::signal_number());
           throw ConvergenceError(message);
         }
       log.print("ngf: mu_wall = " + summary["mu_wall"].dump() +
                 ", W/d = " + summary["shear_band_width_over_d"].dump() + ", " +
-                std::to_string(increment) + " increments, " + std::to_string(total_iterations) +
+                std::to_string(s.increment) + " increments, " + std::to_string(s.total_iterations) +
                 " Newton iterations, " + std::to_string(log.elapsed()) + " s\n");
       return {summary};
     }
