@@ -7,6 +7,8 @@
 # U_inf is below 1e-3 has jammed (no mean flow; granflow then reports jammed: true and no C_D): it
 # is listed but not plotted. The CSV has each run's final residual; runs that stopped short of TOL
 # (converged False) are plotted with open markers.
+# Then DIR/drag_diameter.csv: the drag at p_ext = 0.3 for D/L = 1/16, 1/8, 1/4, to see whether
+# F_D is proportional to D, as the paper's Fig. 13 (right) implies (README, 6.3.1).
 #   scripts/cylinder_drag_sweep.sh [BUILD_DIR] [OUT_DIR] [TOL]
 set -euo pipefail
 build=${1:-build} out=${2:-results/cylinder_drag_sweep} tol=${3:-1e-6}
@@ -50,4 +52,22 @@ ax.set_title("filled: residual <= TOL; open: stopped above it (column converged 
 ax.set_xlabel("Fr = U_inf / sqrt(D)"); ax.set_ylabel("C_D"); ax.grid(alpha=0.3, which="both"); ax.legend()
 fig.tight_layout(); fig.savefig(sys.argv[2], dpi=130)
 PY
+dcsv="$out/drag_diameter.csv"
+echo "D,p_ext,U_infinity,drag,drag_over_D,cylinder_viscous_force,converged,residual" >"$dcsv"
+for D in 0.0625 0.125 0.25; do
+  run="$out/runs/diameter_D$D"
+  status=0
+  "$build/apps/granflow" run cases/daviet2016/cylinder.prm --quiet --output "$run" \
+    --set "Rheology/mu=0.5" --set "Geometry/Cylinder diameter=$D" \
+    --set "Boundary conditions/External pressure=inlet: 0, outlet: 0.3" \
+    --set "Solver/Method=interior point" --set "Solver/Tolerance=$tol" \
+    --set "Output/Write vtu=false" >/dev/null || status=$?
+  /usr/bin/python3 - "$run/summary.json" "$D" "$status" >>"$dcsv" <<'PY'
+import json, sys
+s, D = json.load(open(sys.argv[1])), float(sys.argv[2])
+print(f"{D},0.3,{s['U_infinity']},{s['drag']},{s['drag'] / D},{s['boundary_force_viscous'][0]},"
+      f"{int(sys.argv[3]) == 0},{s['solver']['residual']}")
+PY
+done
 echo "$csv"
+echo "$dcsv"

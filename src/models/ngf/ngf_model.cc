@@ -220,6 +220,34 @@ namespace granflow::ngf
       /// The profiles, W, the wall pressure and their warnings (those on the band and the wall
       /// pressure only for a run that ended steady: `finished`).
       postprocess(nlohmann::json &summary, const Vector<double> &velocity, bool finished);
+      /// The nodal profile across the band from the driven wall (distance x / d, v / v_wall, g in
+      /// units of g_unit(), and u_x / d or the angle of rotation), ordered from the wall.
+      struct WallProfile
+      {
+        std::vector<double> x, v, g, u;
+      };
+      WallProfile
+      wall_profile(const Vector<double> &v) const;
+      /// The coordinate that runs across the band: z for the column, r for the annuli.
+      unsigned int
+      along() const
+      {
+        return column ? dim - 1 : 0; // (the column is 3D)
+      }
+      double
+      g_unit() const;
+      /// W/d into summary.json, and the warnings on a band the mesh or the domain does not
+      /// resolve (those only for a `finished` run); returns W/d (NaN if the flow does not decay).
+      double
+      judge_band(nlohmann::json &summary, const WallProfile &profile, bool finished);
+      /// summary.json's `reference`; returns the reference's v / v_wall at the profile's nodes.
+      std::vector<double>
+      compare_with_reference(nlohmann::json &summary, const WallProfile &profile, double W) const;
+      /// The pressure at the driven wall and mu_wall_local (column, annulus row), from the
+      /// element centres' distances xc and pressures p.
+      void
+      report_wall_pressure(nlohmann::json &summary, const std::vector<double> &xc,
+                           const std::vector<double> &p, bool finished);
       void
       compare_rate_dependent_part(nlohmann::json &summary, double mu_wall) const;
       /// What a warning on an unresolved band advises: refining, or for the local model
@@ -1527,15 +1555,14 @@ namespace granflow::ngf
     }
 
     template <int dim>
-    void
-    Problem<dim>::postprocess(nlohmann::json &summary, const Vector<double> &v, const bool finished)
+    typename Problem<dim>::WallProfile
+    Problem<dim>::wall_profile(const Vector<double> &v) const
     {
       const double d = scale.d;
       // Nodal profile across the shear band, from the driven wall: along the edge x = y = 0 of the
       // column (depth z), along the bottom of the annulus row, along the free surface of the
       // annulus (for the slice: on its face Theta = 0, where x = R).
-      const unsigned int along    = column ? 2 : 0;
-      auto               on_line  = [&](const Point<dim> &x) {
+      auto on_line = [&](const Point<dim> &x) {
         if (column)
           return x[0] < 1e-9 * scale.h && x[1] < 1e-9 * scale.h;
         if (slice)
@@ -1551,7 +1578,7 @@ namespace granflow::ngf
         {
           if (!on_line(dof_point[i]))
             continue;
-          auto &node = by_distance[dof_point[i][along] - (column ? 0. : scale.R_i)];
+          auto &node = by_distance[dof_point[i][along()] - (column ? 0. : scale.R_i)];
           if (dof_component[i] == 0)
             {
               node.v = wall_parallel_speed(i, v) / scale.v_wall;
@@ -1563,17 +1590,32 @@ namespace granflow::ngf
           else if (dof_component[i] == 3)
             node.g = U[i];
         }
-      // g in units of sqrt(G / d) (with gravity) or sqrt(P_wall / (rho_s d^2)) (annulus row)
-      const double        g_unit = row ? std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / d
-                                       : std::sqrt(prm.material.G / d);
-      std::vector<double> x, vel, g, u;
+      WallProfile profile;
       for (const auto &[distance, node] : by_distance)
         {
-          x.push_back(distance / d);
-          vel.push_back(node.v);
-          g.push_back(node.g / g_unit);
-          u.push_back(node.u);
+          profile.x.push_back(distance / d);
+          profile.v.push_back(node.v);
+          profile.g.push_back(node.g / g_unit());
+          profile.u.push_back(node.u);
         }
+      return profile;
+    }
+
+    template <int dim>
+    double
+    Problem<dim>::g_unit() const
+    {
+      // g in units of sqrt(G / d) (with gravity) or sqrt(P_wall / (rho_s d^2)) (annulus row)
+      return row ? std::sqrt(scale.P_wall / prm.material.nonlocal.rho_s) / scale.d
+                 : std::sqrt(prm.material.G / scale.d);
+    }
+
+    template <int dim>
+    double
+    Problem<dim>::judge_band(nlohmann::json &summary, const WallProfile &profile,
+                             const bool finished)
+    {
+      const auto &x = profile.x, &vel = profile.v;
       // W: the distance from the driven wall at which v has decayed to v_wall / e (Henann 6.1);
       // undefined (null, NaN in comparisons) if it never does.
       // x starts at the driven wall (x.front() = 0), where v / v_wall = 1
@@ -1592,11 +1634,11 @@ namespace granflow::ngf
           // Inside the first element, W is where the linear interpolation between the wall node
           // and the next one crosses v_wall / e: a property of the mesh (the local model's band,
           // docs/ngf.md, or a nonlocal band finer than the mesh).
-          if (finished && W < scale.h / d)
+          if (finished && W < scale.h / scale.d)
             {
               std::ostringstream w;
               w << "the shear band is narrower than one element (W/d = " << W
-                << " < h/d = " << scale.h / d
+                << " < h/d = " << scale.h / scale.d
                 << "): W/d is interpolated inside the first element and depends on the mesh; "
                 << refine_advice();
               warn(w.str());
@@ -1605,11 +1647,11 @@ namespace granflow::ngf
           // P_wall / (phi rho_s G d) = 0.5 (W = 1.8 h) mu_wall and W/d are 11 % off the FD
           // solution of (90), at 4 h (the default case) 0.02 % and 1.4 %; at 2.7 h the annulus's
           // surface velocity is 0.09 v_wall from a fine mesh's (docs/ngf.md).
-          else if (finished && W < 3. * scale.h / d)
+          else if (finished && W < 3. * scale.h / scale.d)
             {
               std::ostringstream w;
-              w << std::setprecision(3) << "the shear band spans only " << W * d / scale.h
-                << " elements (W/d = " << W << ", h/d = " << scale.h / d
+              w << std::setprecision(3) << "the shear band spans only " << W * scale.d / scale.h
+                << " elements (W/d = " << W << ", h/d = " << scale.h / scale.d
                 << "): at fewer than 3, mu_wall, W/d and the profile carry discretisation errors "
                    "of several per cent (docs/ngf.md); "
                 << refine_advice();
@@ -1627,42 +1669,103 @@ namespace granflow::ngf
             << (column ? "Geometry/Depth" : "Geometry/Gap") << ")";
           warn(w.str());
         }
+      return W;
+    }
+
+    template <int dim>
+    std::vector<double>
+    Problem<dim>::compare_with_reference(nlohmann::json &summary, const WallProfile &profile,
+                                         const double W) const
+    {
+      const double        d   = scale.d;
+      const auto         &ref = *reference;
+      std::vector<double> v_fd;
+      double              worst = 0.;
+      for (unsigned int i = 0; i < profile.x.size(); ++i)
+        {
+          // the FD grid divides the domain, so node positions fall on or between grid points
+          const double s   = profile.x[i] * d / (ref.x[1] - ref.x[0]);
+          const auto   k   = std::min<std::size_t>(static_cast<std::size_t>(s), ref.x.size() - 2);
+          const double t   = s - k;
+          const double vfd = ((1. - t) * ref.v[k] + t * ref.v[k + 1]) / ref.v_wall;
+          v_fd.push_back(vfd);
+          worst = std::max(worst, std::abs(vfd - profile.v[i]));
+        }
+      const double mu_wall = summary["mu_wall"].is_number()
+                                 ? summary["mu_wall"].get<double>()
+                                 : std::numeric_limits<double>::quiet_NaN();
+      summary["reference"] = {
+          {"method", column ? "finite difference of (90), 0.01 d grid"
+                            : "finite difference of (92), exact Couette kinematics, 0.01 d grid"},
+          {"mu_wall", ref.mu_wall},
+          {"shear_band_width_over_d", ref.shear_band_width / d},
+          {"max_velocity_difference_over_v_wall", worst},
+          // signed: (FE - FD) / FD
+          {"mu_wall_relative_difference", mu_wall / ref.mu_wall - 1.},
+          {"shear_band_width_relative_difference", W / (ref.shear_band_width / d) - 1.}};
+      return v_fd;
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::report_wall_pressure(nlohmann::json &summary, const std::vector<double> &xc,
+                                       const std::vector<double> &p, const bool finished)
+    {
+      // The pressure at the driven wall, extrapolated linearly from the two nearest element
+      // centres (exact for the column's hydrostatic gradient). mu_wall is the wall shear stress
+      // over the applied P_wall, as in the paper; the local ratio tau / p at the wall differs from
+      // it where the mean pressure p there is not P_wall (the annulus: about 1.005 P_wall).
+      if (!column && !row)
+        return;
+      std::vector<std::pair<double, double>> by_x;
+      for (std::size_t i = 0; i < xc.size(); ++i)
+        by_x.emplace_back(xc[i], p[i]);
+      std::sort(by_x.begin(), by_x.end());
+      if (by_x.size() < 2 || !summary["mu_wall"].is_number())
+        return;
+      const auto [x0, p0]                  = by_x[0];
+      const auto [x1, p1]                  = by_x[1];
+      const double p_wall                  = p0 - x0 * (p1 - p0) / (x1 - x0);
+      const double mu_wall                 = summary["mu_wall"];
+      summary["wall_pressure_over_P_wall"] = p_wall;
+      summary["mu_wall_local"]             = mu_wall / p_wall;
+      // The annulus row's inner wall is not pressed by a traction: the pressure there carries the
+      // elastic hoop stress of the loading, which relaxes only slowly under shearing, and not at
+      // all outside a band (the local model). 0.2 % is twice the steadiness tolerance of mu_wall.
+      if (finished && !column && std::abs(p_wall - 1.) > 2e-3)
+        {
+          std::ostringstream w;
+          w << "the mean pressure at the driven wall is " << p_wall
+            << " P_wall, not the P_wall that the steady solution of (92) assumes: "
+            << (p_wall > 1. ? "elastic stresses of the loading remain (they relax only slowly "
+                              "under shearing: Loading/Wall rotation)"
+                            : "at the default increments it is above P_wall (elastic stresses of "
+                              "the loading that relax slowly); below it, look at the increment "
+                              "size (Solver/Max increment)")
+            << "; mu_wall, the wall's shear stress over P_wall as in the paper, includes "
+               "this, mu_wall_local = tau / p = "
+            << mu_wall / p_wall << " does not";
+          warn(w.str());
+        }
+      if (summary.contains("reference"))
+        compare_rate_dependent_part(summary, column ? mu_wall : mu_wall / p_wall);
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::postprocess(nlohmann::json &summary, const Vector<double> &v, const bool finished)
+    {
+      const WallProfile profile = wall_profile(v);
+      const double      W       = judge_band(summary, profile, finished);
 
       std::vector<std::string> header = {
           column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
           row ? "g_d_sqrt_rho_s_over_P_wall" : "g_sqrt_d_over_G", column ? "u_x_over_d" : "theta"};
-      std::vector<std::vector<double>> columns = {x, vel, g, u};
+      std::vector<std::vector<double>> columns = {profile.x, profile.v, profile.g, profile.u};
       if (reference)
         {
-          const auto         &profile = *reference;
-          std::vector<double> v_fd;
-          double              worst = 0.;
-          for (unsigned int i = 0; i < x.size(); ++i)
-            {
-              // the FD grid divides the domain, so node positions fall on or between grid points
-              const double s = x[i] * d / (profile.x[1] - profile.x[0]);
-              const auto   k =
-                  std::min<std::size_t>(static_cast<std::size_t>(s), profile.x.size() - 2);
-              const double t   = s - k;
-              const double vfd = ((1. - t) * profile.v[k] + t * profile.v[k + 1]) / profile.v_wall;
-              v_fd.push_back(vfd);
-              worst = std::max(worst, std::abs(vfd - vel[i]));
-            }
           header.push_back("v_over_v_wall_reference");
-          columns.push_back(v_fd);
-          const double mu_wall = summary["mu_wall"].is_number()
-                                     ? summary["mu_wall"].get<double>()
-                                     : std::numeric_limits<double>::quiet_NaN();
-          summary["reference"] = {
-              {"method", column
-                             ? "finite difference of (90), 0.01 d grid"
-                             : "finite difference of (92), exact Couette kinematics, 0.01 d grid"},
-              {"mu_wall", profile.mu_wall},
-              {"shear_band_width_over_d", profile.shear_band_width / d},
-              {"max_velocity_difference_over_v_wall", worst},
-              // signed: (FE - FD) / FD
-              {"mu_wall_relative_difference", mu_wall / profile.mu_wall - 1.},
-              {"shear_band_width_relative_difference", W / (profile.shear_band_width / d) - 1.}};
+          columns.push_back(compare_with_reference(summary, profile, W));
         }
       out.write_csv("profiles/velocity.csv", header, columns);
 
@@ -1681,57 +1784,15 @@ namespace granflow::ngf
               pp += pt.p / pts.size();
               gl += pt.g_loc / pts.size();
             }
-          xc.push_back((c[along] - (column ? 0. : scale.R_i)) / d);
+          xc.push_back((c[along()] - (column ? 0. : scale.R_i)) / scale.d);
           mu.push_back(m);
           p.push_back(pp / scale.P_wall);
-          gloc.push_back(gl / g_unit);
+          gloc.push_back(gl / g_unit());
         }
       out.write_csv("profiles/stress.csv",
                     {header[0], "mu", pressure_name(), "g_loc" + header[2].substr(1)},
                     {xc, mu, p, gloc});
-
-      // The pressure at the driven wall, extrapolated linearly from the two nearest element
-      // centres (exact for the column's hydrostatic gradient). mu_wall is the wall shear stress
-      // over the applied P_wall, as in the paper; the local ratio tau / p at the wall differs from
-      // it where the mean pressure p there is not P_wall (the annulus: about 1.005 P_wall).
-      if (column || row)
-        {
-          std::vector<std::pair<double, double>> by_x;
-          for (std::size_t i = 0; i < xc.size(); ++i)
-            by_x.emplace_back(xc[i], p[i]);
-          std::sort(by_x.begin(), by_x.end());
-          if (by_x.size() >= 2 && summary["mu_wall"].is_number())
-            {
-              const auto [x0, p0]   = by_x[0];
-              const auto [x1, p1]   = by_x[1];
-              const double p_wall   = p0 - x0 * (p1 - p0) / (x1 - x0);
-              const double mu_wall  = summary["mu_wall"];
-              summary["wall_pressure_over_P_wall"] = p_wall;
-              summary["mu_wall_local"]             = mu_wall / p_wall;
-              // The annulus row's inner wall is not pressed by a traction: the pressure there
-              // carries the elastic hoop stress of the loading, which relaxes only slowly under
-              // shearing, and not at all outside a band (the local model). 0.2 % is twice the
-              // steadiness tolerance of mu_wall.
-              if (finished && !column && std::abs(p_wall - 1.) > 2e-3)
-                {
-                  std::ostringstream w;
-                  w << "the mean pressure at the driven wall is " << p_wall
-                    << " P_wall, not the P_wall that the steady solution of (92) assumes: "
-                    << (p_wall > 1.
-                            ? "elastic stresses of the loading remain (they relax only slowly "
-                              "under shearing: Loading/Wall rotation)"
-                            : "at the default increments it is above P_wall (elastic stresses of "
-                              "the loading that relax slowly); below it, look at the increment "
-                              "size (Solver/Max increment)")
-                    << "; mu_wall, the wall's shear stress over P_wall as in the paper, includes "
-                       "this, mu_wall_local = tau / p = "
-                    << mu_wall / p_wall << " does not";
-                  warn(w.str());
-                }
-              if (summary.contains("reference"))
-                compare_rate_dependent_part(summary, column ? mu_wall : mu_wall / p_wall);
-            }
-        }
+      report_wall_pressure(summary, xc, p, finished);
     }
 
     /// Near the rate-independent plateau mu_wall is mu_s plus a small rate-dependent part, which
