@@ -39,17 +39,20 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 rows = list(csv.DictReader(open(sys.argv[1])))
-fig, ax = plt.subplots(figsize=(6, 4.5))
-for D in sorted({r["D"] for r in rows}):
-    sel = [r for r in rows if r["D"] == D and float(r["U_infinity"]) > 1e-3]  # else jammed
-    line, = ax.loglog([float(r["Froude"]) for r in sel], [float(r["drag_coefficient"]) for r in sel], "-", label=f"D/L = {D}")
-    for done, face in (("True", line.get_color()), ("False", "none")):  # open: tolerance not reached
-        pts = [r for r in sel if r["converged"] == done]
-        ax.loglog([float(r["Froude"]) for r in pts], [float(r["drag_coefficient"]) for r in pts], "o",
-                  color=line.get_color(), markerfacecolor=face)
-fig.suptitle("Daviet & Bertails-Descoubes 2016 Fig. 13: C_D against Fr, mu = 0.5, Re = 100", fontsize=10)
-ax.set_title("filled: residual <= TOL; open: stopped above it (column converged of the CSV)", fontsize=9)
-ax.set_xlabel("Fr = U_inf / sqrt(D)"); ax.set_ylabel("C_D"); ax.grid(alpha=0.3, which="both"); ax.legend()
+# left: against Fr, as Fig. 13 (left); right: against U_inf, as Fig. 13 (right), where the paper
+# finds the diameters aligned (F_D proportional to D)
+fig, axes = plt.subplots(1, 2, figsize=(11, 4.5))
+for ax, key, label in ((axes[0], "Froude", "Fr = U_inf / sqrt(D)"), (axes[1], "U_infinity", "U_inf")):
+    for D in sorted({r["D"] for r in rows}):
+        sel = [r for r in rows if r["D"] == D and float(r["U_infinity"]) > 1e-3]  # else jammed
+        line, = ax.loglog([float(r[key]) for r in sel], [float(r["drag_coefficient"]) for r in sel], "-", label=f"D/L = {D}")
+        for done, face in (("True", line.get_color()), ("False", "none")):  # open: tolerance not reached
+            pts = [r for r in sel if r["converged"] == done]
+            ax.loglog([float(r[key]) for r in pts], [float(r["drag_coefficient"]) for r in pts], "o",
+                      color=line.get_color(), markerfacecolor=face)
+    ax.set_xlabel(label); ax.set_ylabel("C_D"); ax.grid(alpha=0.3, which="both"); ax.legend()
+fig.suptitle("Daviet & Bertails-Descoubes 2016 Fig. 13: C_D, mu = 0.5, Re = 100. Filled: residual <= TOL; "
+             "open: stopped above it", fontsize=10)
 fig.tight_layout(); fig.savefig(sys.argv[2], dpi=130)
 PY
 dcsv="$out/drag_diameter.csv"
