@@ -13,6 +13,9 @@ namespace granflow
 
   namespace
   {
+    /// The list of the files the run in a directory wrote (commit()).
+    constexpr const char *manifest_name = ".granflow-files";
+
     fs::path
     normalised(const std::string &path)
     {
@@ -21,8 +24,9 @@ namespace granflow
     }
 
     /// Files a run writes (DESIGN.md "Output directory"), relative to the output directory. On
-    /// commit, those a previous run left and this run did not write are removed, so that the
-    /// directory never mixes two runs (e.g. an old solution.pvd beside a run without VTU output).
+    /// commit, those a previous run wrote (its manifest) and this run did not are removed, so
+    /// that the directory never mixes two runs (e.g. an old solution.pvd beside a run without VTU
+    /// output).
     bool
     is_run_output(const fs::path &relative)
     {
@@ -71,17 +75,29 @@ namespace granflow
     if (committed)
       return;
     fs::create_directories(final_path);
-    // Only the two directories a run writes are looked at (not recursively: DIR may be large).
+    // The files this run wrote, listed in the manifest that it leaves beside them.
+    std::vector<fs::path> written;
+    for (const auto &entry : fs::recursive_directory_iterator(root))
+      if (entry.is_regular_file())
+        written.push_back(fs::relative(entry.path(), root));
+    {
+      std::ofstream manifest(fs::path(root) / manifest_name);
+      for (const auto &file : written)
+        manifest << file.generic_string() << '\n';
+    }
+    // The earlier run's files that this run did not write: only those its manifest lists, so
+    // that a user's own files in the directory are never touched, even where their names look
+    // like a run's (profiles/notes.csv, history.csv). A directory without a manifest (new, or
+    // written before session 18) loses nothing; its files of the same names are replaced.
     std::vector<fs::path> stale;
-    for (const fs::path &sub : {fs::path(), fs::path("profiles")})
-      if (fs::is_directory(fs::path(final_path) / sub))
-        for (const auto &entry : fs::directory_iterator(fs::path(final_path) / sub))
-          {
-            const fs::path relative = sub / entry.path().filename();
-            if (entry.is_regular_file() && is_run_output(relative) &&
-                !fs::exists(fs::path(root) / relative))
-              stale.push_back(entry.path());
-          }
+    if (std::ifstream manifest(fs::path(final_path) / manifest_name); manifest)
+      for (std::string line; std::getline(manifest, line);)
+        {
+          const fs::path relative = fs::path(line).lexically_normal();
+          if (!line.empty() && is_run_output(relative) && !fs::exists(fs::path(root) / relative) &&
+              fs::is_regular_file(fs::path(final_path) / relative))
+            stale.push_back(fs::path(final_path) / relative);
+        }
     // The new files first, then the earlier run's leftovers: a move that fails part-way leaves
     // the earlier run's files that it did not replace in place.
     for (const auto &entry : fs::recursive_directory_iterator(root))
@@ -97,6 +113,18 @@ namespace granflow
     fs::remove_all(root);
     root      = final_path;
     committed = true;
+  }
+
+  bool
+  OutputDirectory::would_replace(const std::string &existing) const
+  {
+    std::error_code ec;
+    const fs::path  file   = fs::weakly_canonical(existing, ec);
+    const fs::path  target = fs::weakly_canonical(final_path, ec);
+    if (ec || !fs::is_regular_file(file, ec))
+      return false;
+    const fs::path relative = file.lexically_relative(target);
+    return !relative.empty() && *relative.begin() != ".." && is_run_output(relative);
   }
 
   std::string

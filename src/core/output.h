@@ -54,6 +54,12 @@ namespace granflow
     std::string
     file(const std::string &name) const;
 
+    /// Whether committing would replace `existing` (a path relative to the working directory),
+    /// because it is a file of the target whose name a run writes (a case file named
+    /// parameters.prm in the output directory).
+    bool
+    would_replace(const std::string &existing) const;
+
     /// Writes `content` to `name` atomically (temporary file + rename).
     void
     write_text(const std::string &name, const std::string &content) const;

@@ -625,6 +625,15 @@ namespace granflow::geometry
                   "length = " + str(length),
                   "so that the cylinder fits in the channel",
                   source);
+    // The cylinder is meshed at h / 3: below D = h / 2 it has fewer than 5 edges, and below
+    // about 1e-8 Gmsh's mesher fails inside a parallel region, where its error cannot be caught.
+    require_positive(h, entry::mesh_size, source);
+    if (D < 0.5 * h)
+      throw InputError(source, entry::diameter,
+                       str(D) + " is too small for Geometry/Mesh size = " + str(h) +
+                           " (the cylinder would have fewer than 5 edges): expected a number in [" +
+                           str(0.5 * h) + ", " + str(std::min(width, length)) +
+                           "), or a smaller Mesh size");
     // Counts the zone within D of the cylinder, meshed up to three times finer, nine times.
     check_mesh_size(mesh, h,
                     length * width + 8 * std::min(length * width, 2 * dealii::numbers::PI * D * D),

@@ -33,6 +33,13 @@ namespace granflow
                                    ? default_output_directory(request.case_file)
                                    : request.output_directory;
       OutputDirectory    out(dir);
+      if (out.would_replace(request.case_file))
+        throw InputError("--output " + dir +
+                         ": the run writes its own files there, and would "
+                         "replace the case file " +
+                         request.case_file +
+                         " (expected an output directory that does not hold the case file under "
+                         "a name the run writes, such as parameters.prm)");
       Logger             log(out.file("log.txt"), !request.quiet);
       std::ostringstream used;
       prm.print_parameters(used, dealii::ParameterHandler::Text);

@@ -259,7 +259,9 @@ namespace granflow::solvers
               {
                 stats.stalled = true;
                 stats.stall_reason =
-                    step == 0.         ? "no step kept the iterate interior (rounding)"
+                    !factorization_failure.empty() ? "the Newton matrix could not be factorised (" +
+                                                         factorization_failure + ")"
+                    : step == 0.       ? "no step kept the iterate interior (rounding)"
                     : short_steps == 5 ? "5 successive steps were shorter than 1e-4 (the iterates "
                                          "left the central path)"
                                        : "50 iterations gained less than 10 % on the least "
@@ -520,8 +522,9 @@ namespace granflow::solvers
           {
             lu.factorize(K);
           }
-        catch (const std::runtime_error &)
+        catch (const std::runtime_error &e)
           {
+            factorization_failure = e.what(); // named in the stall reason
             return 0.;
           }
         ++factorizations;
@@ -613,6 +616,7 @@ namespace granflow::solvers
       CsrMatrix                        K;
       UmfpackSolver                    lu;
       unsigned int                     factorizations = 0;
+      std::string                      factorization_failure; // UMFPACK's message, if it failed
       Vector                           gamma_u, lambda_z, r_x, r_z; // set by evaluate()
       double                           gap = 0.;
     };

@@ -27,7 +27,8 @@ namespace granflow::solvers
     /// Per point, > 0 (empty: all 1): the residual compares lambda_i with gamma_scale_i gamma_i,
     /// so that a tolerance means the same at every point. gamma_i carries the point's weight
     /// (Property 3); the dp model divides it out and turns the strain rate into the viscous stress
-    /// it drives, 1 / (Re w_i). The solution does not depend on it.
+    /// it drives, eta_i / (Re w_i) (eta_i the point's viscosity: 1, or |D| for Bagnold's). The
+    /// solution does not depend on it.
     std::vector<double> gamma_scale;
 
     std::size_t

@@ -97,6 +97,9 @@ namespace granflow::solvers
     if (header[0] != magic)
       throw std::runtime_error("'" + file + "' is not a granflow cone problem dump");
     ConeProblemData data;
+    if (header[1] != 3 && header[1] != 6)
+      throw std::runtime_error("'" + file + "' has cone blocks of " + std::to_string(header[1]) +
+                               " components, not 3 (2D) or 6 (3D): a corrupt dump");
     data.block_size = static_cast<unsigned int>(header[1]);
     read_matrix(in, data.A);
     read_matrix(in, data.H);

@@ -566,7 +566,9 @@ namespace granflow::solvers
   {
     if (data.block_size == 3)
       return ConeProduct<3>(data).residual(kind, lambda, gamma);
-    return ConeProduct<6>(data).residual(kind, lambda, gamma);
+    if (data.block_size == 6)
+      return ConeProduct<6>(data).residual(kind, lambda, gamma);
+    throw std::invalid_argument("cone_residual: block size must be 3 (2D) or 6 (3D)");
   }
 
   InnerSolver

@@ -275,6 +275,8 @@ bad reference-bingham-needs-mu-0 "'bingham poiseuille' needs Rheology/mu = 0" \
   --set "Rheology/mu=0.3"
 bad reference-bingham-needs-width-2 "Geometry/Channel width = 2" --set "Geometry/Channel width=1"
 bad reference-bingham-along-the-channel "Gravity direction = 1, 0" --set "Gravity direction=0, -1"
+bad reference-bingham-at-rest "it is at rest (the yield stress Bi reaches the wall's shear stress 1): expected Rheology/Bi in [0, 1)" \
+  --set "Rheology/Bi=1"
 check reference-bagnold-needs-flow 2 "with tan a > Rheology/mu (here tan a = 0.55" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet --set "Rheology/mu=0.6"
 check reference-bagnold-needs-Bi-0 2 "'bagnold' needs Rheology/Bi = 0" "$GRANFLOW" run \
@@ -598,5 +600,35 @@ printf '%s\n' '$MeshFormat' '2.2 0 8' '$EndMeshFormat' '$PhysicalNames' '2' '1 1
 check mesh-xz-plane 2 "does not lie in a plane z = const" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm" --quiet --output xz \
   --set "Geometry/Shape=file" --set "Geometry/Mesh file=xz.msh"
+
+# Session 18's bad-input review. The Bingham reference only where it holds: no-slip walls, free
+# ends, no pressure difference (max_rel_error was 9.0 and 3.5, exit 0).
+bad reference-bingham-needs-its-walls "needs Boundary conditions/No-slip = bottom, top" \
+  --set "Boundary conditions/No-slip=bottom" --set "Boundary conditions/Zero normal velocity=top"
+bad reference-bingham-no-pressure-difference "needs Boundary conditions/External pressure equal at inlet and outlet" \
+  --set "Boundary conditions/External pressure=inlet: 1"
+bad tolerance-too-loose "Solver/Tolerance=1.5: value '1.5' is invalid" --set "Solver/Tolerance=1.5"
+# A gravity vector of overflowing length is still a direction (it was taken as (0, 0): no flow).
+check gravity-overflow 0 "only its direction (1, 0) is used" "$GRANFLOW" run "$case_file" \
+  --output gravity_big --set "Gravity direction=1e308, 0" --set "Output/Write vtu=false"
+# A cylinder far below the mesh size (Gmsh aborted the program below about 1e-8).
+check cylinder-too-small 2 "is too small for Geometry/Mesh size = 0.05" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/daviet2016/cylinder.prm" --quiet --output tiny \
+  --set "Geometry/Cylinder diameter=1e-9"
+# The output directory: a case file there under a name the run writes is refused, not replaced;
+# a rerun removes only the files the earlier run listed in its manifest, never a user's own files
+# whose names look like a run's.
+mkdir -p own && cp "$case_file" own/parameters.prm
+check case-file-in-output 2 "would replace the case file" "$GRANFLOW" run own/parameters.prm \
+  --quiet --output own
+if cmp -s "$case_file" own/parameters.prm; then pass "case file kept"; else fail "case file kept"; fi
+"$GRANFLOW" run "$case_file" --quiet --output mixed --set "Output/Write vtu=false" >/dev/null 2>&1
+echo "mine" >mixed/profiles/my_notes.csv
+echo "mine" >mixed/history.csv
+check rerun-keeps-user-files 0 "Results in mixed" "$GRANFLOW" run "$case_file" --output mixed \
+  --quiet --set "Output/Write vtu=false" --set "Output/Reference=none"
+if [ -s mixed/profiles/my_notes.csv ] && [ -s mixed/history.csv ] && [ -s mixed/.granflow-files ] &&
+  grep -qx "summary.json" mixed/.granflow-files; then pass "user files kept, manifest written"
+else fail "user files kept, manifest written"; ls -a mixed mixed/profiles; fi
 
 summary

@@ -478,6 +478,16 @@ TEST(ConeProblemIO, DumpAndLoadRoundTrip)
   data.gamma_scale = {1., 2.};
   save_cone_problem(data, file);
   EXPECT_THROW(load_cone_problem(file), std::runtime_error);
+  // Cone blocks of 3 (2D) or 6 (3D) components, nothing else: one point of 1-component blocks
+  // is size-consistent with a 1-row H, and was accepted before.
+  data.H           = dense_to_csr({{1., 0., 0.}});
+  data.k           = {0.};
+  data.gamma_scale = {};
+  data.block_size  = 1;
+  save_cone_problem(data, file);
+  EXPECT_THROW(load_cone_problem(file), std::runtime_error);
+  EXPECT_THROW(cone_residual(data, ResidualKind::fischer_burmeister, {0.}, {0.}),
+               std::invalid_argument);
 }
 
 TEST(ConeSolverNames, TheCaseFilesNamesParseAndOthersAreRejected)

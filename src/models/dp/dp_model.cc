@@ -742,6 +742,10 @@ namespace granflow::dp
           std::error_code ec;
           std::filesystem::copy_file(g.mesh_file, msh,
                                      std::filesystem::copy_options::overwrite_existing, ec);
+          if (ec)
+            warn("the mesh file " + g.mesh_file +
+                 " could not be copied into the output directory (" + ec.message() +
+                 "); the run goes on with the mesh read from it");
         }
       if (g.refinements > 0)
         {
@@ -921,14 +925,41 @@ namespace granflow::dp
       if (!free.empty())
         log.print("dp: note: no condition on " + free +
                   ": traction-free (the material may leave or enter there)\n");
+      // The Bingham reference (6.1.1) is (23)-(24) with u = 0 on the walls y = +-1 and the ends
+      // free along the channel, under one pressure or none (which does not change a flow at mu =
+      // 0); with other conditions its max_rel_error would be a silent wrong answer.
+      if (prm.output.reference == "bingham poiseuille" && prm.geometry.shape == "channel")
+        {
+          const auto &bc    = prm.boundaries;
+          const auto  walls = split_list(bc.no_slip);
+          if (std::set<std::string>(walls.begin(), walls.end()) !=
+                  std::set<std::string>{"bottom", "top"} ||
+              !split_list(bc.zero_x_velocity).empty() ||
+              !split_list(bc.zero_normal_velocity).empty())
+            throw InputError(prm.case_file, "Output/Reference",
+                             "'bingham poiseuille' solves the channel with no-slip walls and free "
+                             "ends (6.1.1): needs Boundary conditions/No-slip = bottom, top, and "
+                             "the ends (inlet, outlet) free along the channel (Zero y-velocity or "
+                             "Zero tangential velocity)");
+          std::map<std::string, double> pressure{{"inlet", 0.}, {"outlet", 0.}};
+          for (const auto &[name, value] : parse_named_values(
+                   bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
+            pressure[name] = value;
+          if (pressure["inlet"] != pressure["outlet"])
+            throw InputError(prm.case_file, "Output/Reference",
+                             "'bingham poiseuille' is driven by the body force alone: needs "
+                             "Boundary conditions/External pressure equal at inlet and outlet (a "
+                             "pressure difference drives another flow)");
+        }
       // Only the direction of gravity enters (23): the body force is rho g, in units of rho g.
       if (const Point<dim> g =
               parse_point(prm.gravity_direction, prm.case_file, "Gravity direction");
           std::abs(g.norm() - 1.) > 1e-12)
         {
           std::ostringstream note;
+          const Tensor<1, dim> e = prm.e_g();
           note << "dp: note: Gravity direction (" << g[0] << ", " << g[1] << ") has length "
-               << g.norm() << "; only its direction (" << g[0] / g.norm() << ", " << g[1] / g.norm()
+               << g.norm() << "; only its direction (" << e[0] << ", " << e[1]
                << ") is used: the body force is rho g, the unit of (23)\n";
           log.print(note.str());
         }
@@ -968,9 +999,9 @@ namespace granflow::dp
           {
             throw InputError(
                 prm.case_file, "Solver/Dump cone problem",
-                "= " + prm.solver.dump_cone_problem +
-                    ": cannot be written (expected a file name, relative to the output "
-                    "directory, or a writable path)");
+                "= " + prm.solver.dump_cone_problem + ": cannot be written (" + e.what() +
+                    "; expected a file name, relative to the output directory, or a writable "
+                    "path)");
           }
       solvers::ConeSolverStats stats;
       try
@@ -1697,14 +1728,19 @@ namespace granflow::dp
                 peak_p = sum.first / sum.second;
                 peak_x = (bin + 0.5) * 0.25 * R;
               }
-          S["wake"] = {{"points", wake_points},
-                       {"max_pressure", wake_p},
-                       {"mean_div_u", wake_div / std::max<std::size_t>(wake_points, 1)},
-                       {"min_div_u", wake_min_div}};
-          S["upstream_pressure_peak"] = {
-              {"x", along * peak_x},
-              {"mean_pressure", peak_p},
-              {"distance_from_cylinder_over_D", (-peak_x - R) / (2. * R)}};
+          // (null where no constraint point falls in the window: a channel that ends within a
+          // diameter of the cylinder)
+          const auto measured = [](const bool any, const double value) {
+            return any ? nlohmann::json(value) : nlohmann::json(nullptr);
+          };
+          S["wake"]                   = {{"points", wake_points},
+                                         {"max_pressure", measured(wake_points > 0, wake_p)},
+                                         {"mean_div_u", measured(wake_points > 0, wake_div / double(wake_points))},
+                                         {"min_div_u", measured(wake_points > 0, wake_min_div)}};
+          S["upstream_pressure_peak"] = {{"x", measured(!centreline.empty(), along * peak_x)},
+                                         {"mean_pressure", measured(!centreline.empty(), peak_p)},
+                                         {"distance_from_cylinder_over_D",
+                                          measured(!centreline.empty(), (-peak_x - R) / (2. * R))}};
           if (inflow_reversed)
             {
               S["Froude"]           = nullptr;

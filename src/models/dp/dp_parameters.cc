@@ -5,6 +5,7 @@
 #include "geometry/geometry.h"
 #include "solvers/cone_problem.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -147,8 +148,9 @@ namespace granflow::dp
       prm.add_parameter("Residual", s.residual,
                         "Stopping residual: fischer-burmeister (Bi = 0 points) or alart-curnier.",
                         Selection("fischer-burmeister|alart-curnier"));
-      prm.add_parameter("Tolerance", s.tolerance, "Infinity norm of the residual to reach, > 0.",
-                        Interval::positive());
+      prm.add_parameter("Tolerance", s.tolerance,
+                        "Infinity norm of the residual to reach, in units of stress, in (0, 0.1].",
+                        Interval::positive(0.1));
       prm.add_parameter("Max outer iterations", s.max_outer_iterations,
                         "Cadoux fixed-point iterations (interior point: its iterations) before "
                         "giving up, >= 1.",
@@ -249,6 +251,16 @@ namespace granflow::dp
           throw InputError(f, "Output/Reference",
                            "'bingham poiseuille' is driven along the channel: needs Gravity "
                            "direction = 1, 0");
+        // The wall's shear stress is 1 (the channel's half-width times the unit body force):
+        // at Bi >= 1 the channel is at rest, u = 0, and a relative error has no scale.
+        if (rheology.Bi >= 1.)
+          throw InputError(
+              f, "Output/Reference",
+              "'bingham poiseuille' compares a flowing channel, and at Rheology/Bi = " +
+                  std::to_string(rheology.Bi) +
+                  " it is at rest (the yield stress Bi reaches the wall's shear "
+                  "stress 1): expected Rheology/Bi in [0, 1), or Output/Reference = "
+                  "none");
       }
     if (output.reference == "bagnold")
       {
@@ -341,9 +353,13 @@ namespace granflow::dp
   dealii::Tensor<1, 2>
   Parameters::e_g() const
   {
-    const dealii::Point<2> g = parse_point(gravity_direction, case_file, "Gravity direction");
-    if (g.norm() == 0.)
+    dealii::Point<2> g = parse_point(gravity_direction, case_file, "Gravity direction");
+    // scaled by its largest component first, so that a length beyond the largest double (1e308,
+    // 1e308) is still a direction
+    const double largest = std::max(std::abs(g[0]), std::abs(g[1]));
+    if (largest == 0.)
       throw InputError(case_file, "Gravity direction", "is the zero vector: expected a direction");
+    g /= largest;
     return g / g.norm();
   }
 } // namespace granflow::dp

@@ -782,7 +782,8 @@ namespace granflow::ngf
           catch (const dealii::SparseDirectUMFPACK::ExcUMFPACKError &)
             {
               factorization_valid = false;
-              return false; // a singular Jacobian: the increment is cut
+              log.table() << std::setw(36) << "singular Jacobian (UMFPACK)" << '\n';
+              return false; // the increment is cut
             }
           dU *= -1.;
           newton_constraints.distribute(dU);
@@ -858,8 +859,8 @@ namespace granflow::ngf
         {
           // the moment about z of the wall's x- and y-reactions at the nodes' current positions
           // (the radial reactions have a lever arm once the wall has turned), per radian of the
-          // slice; the dofs of a node are numbered together, x before y (checked in the
-          // constructor)
+          // slice; the dofs of a node are numbered together, x before y (checked in
+          // setup_system())
           double moment = 0.;
           for (const auto i :
                DoFTools::extract_boundary_dofs(dof_handler, ComponentMask(), {wall_id}))
@@ -898,7 +899,7 @@ namespace granflow::ngf
             {
               // v_theta = r dtheta/dt with r = R + u_r of the same node (dofs of a node are
               // consecutive in component order)
-              v[i] *= dof_point[i][0] + U[i - twist]; // checked in the constructor
+              v[i] *= dof_point[i][0] + U[i - twist]; // checked in setup_system()
             }
       return v;
     }
@@ -1065,10 +1066,11 @@ namespace granflow::ngf
           double               dv    = 0.;
           for (types::global_dof_index i = 0; i < v_end.size(); ++i)
             dv = std::max(dv, std::abs(v_end[i] - s.v_window[i]) / scale.v_wall);
-          // (a mu_wall of exactly 0, a body not loaded at all, is steady if it stays 0)
-          const double dmu = s.mu_wall == s.mu_wall_window
-                                 ? 0.
-                                 : std::abs(s.mu_wall - s.mu_wall_window) / std::abs(s.mu_wall);
+          // relative to the larger of the two (a mu_wall of exactly 0, a body not loaded at all,
+          // is steady if it stays 0)
+          const double scale_mu = std::max(std::abs(s.mu_wall), std::abs(s.mu_wall_window));
+          const double dmu =
+              scale_mu == 0. ? 0. : std::abs(s.mu_wall - s.mu_wall_window) / scale_mu;
           steady           = {{"window_over_d", (s.u_wall - s.u_wall_window) / d},
                               {"mu_wall_relative_change", dmu},
                               {"velocity_change_over_v_wall", dv},

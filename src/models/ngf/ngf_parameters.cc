@@ -139,7 +139,8 @@ namespace granflow::ngf
       prm.add_parameter(
           "Tolerance", s.tolerance,
           "Newton stops when both normalised residuals R_u, R_g (Section 6.1) are below, in (0, "
-          "1e-3].",
+          "1e-3]; or, at their round-off floor, when the full Newton correction is below 1e-10 "
+          "of each field (its largest value).",
           Interval::positive(1e-3));
       prm.add_parameter("Max Newton iterations", s.max_iterations,
                         "Newton iterations before the increment is cut, in [1, 100].",
