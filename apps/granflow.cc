@@ -123,6 +123,14 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
       }
     if (request.case_file.empty())
       throw granflow::InputError("run: missing CASE.prm (see granflow --help)");
+    // One value per entry, as in a case file (which refuses an entry set twice).
+    for (std::size_t i = 0; i < request.overrides.size(); ++i)
+      for (std::size_t j = 0; j < i; ++j)
+        if (request.overrides[j].path == request.overrides[i].path)
+          throw granflow::InputError("--set " + request.overrides[i].path + "=" +
+                                     request.overrides[i].value + ": " + request.overrides[i].path +
+                                     " is set twice (also = " + request.overrides[j].value +
+                                     "): expected each entry at most once");
     granflow::interrupt::install();
     const auto summary = granflow::run_case(request);
     const std::string dir = summary.value("output_directory", std::string());
@@ -162,7 +170,12 @@ main(int argc, char **argv)
       if (args[0] == "run")
         return run({args.begin() + 1, args.end()});
       if (args[0] == "list-cases")
-        return list_cases();
+        {
+          if (args.size() != 1)
+            throw granflow::InputError("list-cases: unexpected argument '" + args[1] +
+                                       "': it takes none");
+          return list_cases();
+        }
       if (args[0] == "print-parameters")
         {
           if (args.size() != 2)

@@ -14,16 +14,20 @@ set -euo pipefail
 build=${1:-build} out=${2:-results/cylinder_drag_sweep} tol=${3:-1e-6}
 mkdir -p "$out"
 csv="$out/drag.csv"
+# Solves the cylinder of diameter $2 under outlet pressure $3 into $1; status: its exit status.
+solve() {
+  status=0
+  "$build/apps/granflow" run cases/daviet2016/cylinder.prm --quiet --output "$1" \
+    --set "Rheology/mu=0.5" --set "Geometry/Cylinder diameter=$2" \
+    --set "Boundary conditions/External pressure=inlet: 0, outlet: $3" \
+    --set "Solver/Method=interior point" --set "Solver/Tolerance=$tol" \
+    --set "Output/Write vtu=false" >/dev/null || status=$?
+}
 echo "D,p_ext,U_infinity,Froude,drag,drag_coefficient,converged,residual" >"$csv"
 for D in 0.25 0.125; do
   for p in 0.1 0.2 0.3 0.4 0.5 0.6 0.7 0.8 1.0 1.2; do
     run="$out/runs/D${D}_p$p"
-    status=0
-    "$build/apps/granflow" run cases/daviet2016/cylinder.prm --quiet --output "$run" \
-      --set "Rheology/mu=0.5" --set "Geometry/Cylinder diameter=$D" \
-      --set "Boundary conditions/External pressure=inlet: 0, outlet: $p" \
-      --set "Solver/Method=interior point" --set "Solver/Tolerance=$tol" \
-      --set "Output/Write vtu=false" >/dev/null || status=$?
+    solve "$run" "$D" "$p"
     /usr/bin/python3 - "$run/summary.json" "$D" "$p" "$status" >>"$csv" <<'PY'
 import json, sys
 s = json.load(open(sys.argv[1]))
@@ -59,12 +63,7 @@ dcsv="$out/drag_diameter.csv"
 echo "D,p_ext,U_infinity,drag,drag_over_D,cylinder_viscous_force,converged,residual" >"$dcsv"
 for D in 0.0625 0.125 0.25; do
   run="$out/runs/diameter_D$D"
-  status=0
-  "$build/apps/granflow" run cases/daviet2016/cylinder.prm --quiet --output "$run" \
-    --set "Rheology/mu=0.5" --set "Geometry/Cylinder diameter=$D" \
-    --set "Boundary conditions/External pressure=inlet: 0, outlet: 0.3" \
-    --set "Solver/Method=interior point" --set "Solver/Tolerance=$tol" \
-    --set "Output/Write vtu=false" >/dev/null || status=$?
+  solve "$run" "$D" 0.3
   /usr/bin/python3 - "$run/summary.json" "$D" "$status" >>"$dcsv" <<'PY'
 import json, sys
 s, D = json.load(open(sys.argv[1])), float(sys.argv[2])

@@ -630,5 +630,9 @@ check rerun-keeps-user-files 0 "Results in mixed" "$GRANFLOW" run "$case_file" -
 if [ -s mixed/profiles/my_notes.csv ] && [ -s mixed/history.csv ] && [ -s mixed/.granflow-files ] &&
   grep -qx "summary.json" mixed/.granflow-files; then pass "user files kept, manifest written"
 else fail "user files kept, manifest written"; ls -a mixed mixed/profiles; fi
+# An entry given twice on the command line is refused, as in a case file (the last one won).
+bad set-twice "Rheology/Bi is set twice (also = 0.2): expected each entry at most once" \
+  --set "Rheology/Bi=0.2" --set "Rheology/Bi=0.3"
+check list-cases-extra 2 "list-cases: unexpected argument 'foo'" "$GRANFLOW" list-cases foo
 
 summary
