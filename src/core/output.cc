@@ -127,6 +127,12 @@ namespace granflow
     return !relative.empty() && *relative.begin() != ".." && is_run_output(relative);
   }
 
+  bool
+  OutputDirectory::is_run_file(const std::string &relative)
+  {
+    return is_run_output(fs::path(relative).lexically_normal());
+  }
+
   std::string
   OutputDirectory::file(const std::string &name) const
   {

@@ -60,6 +60,10 @@ namespace granflow
     bool
     would_replace(const std::string &existing) const;
 
+    /// Whether `relative` (a path in an output directory) is the name of a file a run writes.
+    static bool
+    is_run_file(const std::string &relative);
+
     /// Writes `content` to `name` atomically (temporary file + rename).
     void
     write_text(const std::string &name, const std::string &content) const;

@@ -634,5 +634,11 @@ else fail "user files kept, manifest written"; ls -a mixed mixed/profiles; fi
 bad set-twice "Rheology/Bi is set twice (also = 0.2): expected each entry at most once" \
   --set "Rheology/Bi=0.2" --set "Rheology/Bi=0.3"
 check list-cases-extra 2 "list-cases: unexpected argument 'foo'" "$GRANFLOW" list-cases foo
+# A dump named like a file the run writes would be replaced by it; a continuum annulus of less
+# than a grain's radius is refused (R_i = 1e-9 d gave mu_wall = 4.8e15 with exit 0).
+bad dump-named-like-run-file "the run writes a file of that name" \
+  --set "Solver/Dump cone problem=summary.json"
+check ngf-inner-radius-below-a-grain 2 "expected a number in [1, 100000]" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --quiet --output keep --set "Geometry/Inner radius=1e-9"
 
 summary

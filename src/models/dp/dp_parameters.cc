@@ -1,6 +1,7 @@
 #include "models/dp/dp_parameters.h"
 
 #include "core/errors.h"
+#include "core/output.h"
 #include "core/parameters.h"
 #include "geometry/geometry.h"
 #include "solvers/cone_problem.h"
@@ -218,6 +219,11 @@ namespace granflow::dp
         !(rheology.mu > 0. && rheology.Bi == 0.))
       throw InputError(f, "Solver/Method",
                        "= interior point needs Rheology/mu > 0 and Rheology/Bi = 0; use fixed point");
+    if (!solver.dump_cone_problem.empty() && OutputDirectory::is_run_file(solver.dump_cone_problem))
+      throw InputError(f, "Solver/Dump cone problem",
+                       "= " + solver.dump_cone_problem +
+                           ": the run writes a file of that name, which would replace the dump: "
+                           "expected another name (e.g. cone.bin)");
     if (geometry.shape == "file" && geometry.mesh_file.empty())
       throw InputError(f, "Geometry/Mesh file", "is empty: Shape = file needs a .msh file");
     if (!boundaries.analytic_traction.empty() && output.reference != "bagnold")

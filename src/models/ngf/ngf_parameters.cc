@@ -69,8 +69,10 @@ namespace granflow::ngf
                         "Bed depth of the shear column in grain diameters (6.1: 20), > 0.",
                         Interval::positive());
       prm.add_parameter("Inner radius", g.inner_radius,
-                        "Annulus inner radius R_i in grain diameters (6.2: 60), in (0, 1e5].",
-                        Interval::positive(1e5));
+                        "Annulus inner radius R_i in grain diameters (6.2: 20 to 100), in [1, "
+                        "1e5]: a continuum wall of less than a grain's radius is not a model of "
+                        "the paper's cell.",
+                        Interval(1., false, 1e5, false));
       prm.add_parameter("Gap", g.gap, "Annulus width R_o - R_i in grain diameters (6.2: 20), > 0.",
                         Interval::positive());
       prm.add_parameter("Height", g.height,
