@@ -108,6 +108,10 @@ namespace granflow::geometry
     check_mesh_size(Mesh &mesh, double h, double area, const std::string &source)
     {
       require_positive(h, entry::mesh_size, source);
+      if (!std::isfinite(area))
+        throw InputError(source, "Geometry",
+                         "the domain's area is " + str(area) +
+                             ": expected lengths whose product is a finite number");
       const double equilateral_area = std::sqrt(3.) / 4.;
       const double h_min            = std::sqrt(area / (max_cells * equilateral_area));
       if (h < h_min)

@@ -640,5 +640,8 @@ bad dump-named-like-run-file "the run writes a file of that name" \
   --set "Solver/Dump cone problem=summary.json"
 check ngf-inner-radius-below-a-grain 2 "expected a number in [1, 100000]" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --quiet --output keep --set "Geometry/Inner radius=1e-9"
+# An overflowing domain size says so (it said "expected a number in [inf, inf)" of Mesh size).
+bad domain-overflow "the domain's area is inf" --set "Geometry/Channel length=1e308" \
+  --set "Geometry/Channel width=1e308" --set "Output/Reference=none"
 
 summary
