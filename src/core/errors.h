@@ -45,19 +45,10 @@ namespace granflow
   class Interrupted : public ConvergenceError
   {
   public:
-    /// `results_written` false: the run was stopped before it computed anything, and the output
-    /// directory is to be left as it was (registry.cc).
-    Interrupted(const std::string &what, const int signal, const bool results_written = true)
+    Interrupted(const std::string &what, const int signal)
         : ConvergenceError(what)
         , signal(signal)
-        , written(results_written)
     {
-    }
-
-    bool
-    results_written() const
-    {
-      return written;
     }
 
     /// 128 + the signal number, the shell's convention for a process ended by a signal.
@@ -68,8 +59,7 @@ namespace granflow
     }
 
   private:
-    int  signal;
-    bool written;
+    int signal;
   };
 
   /// Exit status of the command line for each outcome.

@@ -2,7 +2,13 @@
 // stop at the next iteration the solvers check; the model then writes its current (dp: least
 // residual) state, the output directory is committed, and the command line exits with 128 + the
 // signal number. A second signal ends the process at once, as without the handler.
+//
+// Steps that cannot poll (Gmsh's meshing, the first factorisation) run inside a
+// BeforeResults scope, where the first signal ends the process at once: nothing has been computed
+// that could be written, and the output directory is left as it was.
 #pragma once
+
+#include <string>
 
 namespace granflow::interrupt
 {
@@ -22,4 +28,21 @@ namespace granflow::interrupt
   /// "SIGINT", "SIGTERM" or "a signal".
   const char *
   signal_name();
+
+  /// While an object of this class lives, a handled signal ends the process at once with exit
+  /// status 128 + the signal, saying that nothing was computed and then `outcome` (what became of
+  /// the output directory: the run's target is left as it was, and its staging directory keeps
+  /// this run's log until the next run into it). For the steps before a run has anything to
+  /// write, which do not poll requested(): a mesh of a million triangles takes Gmsh minutes. A
+  /// signal that arrived before the scope began ends the process when it begins. Scopes do not
+  /// nest.
+  class BeforeResults
+  {
+  public:
+    explicit BeforeResults(const std::string &outcome);
+    ~BeforeResults();
+    BeforeResults(const BeforeResults &) = delete;
+    BeforeResults &
+    operator=(const BeforeResults &) = delete;
+  };
 } // namespace granflow::interrupt

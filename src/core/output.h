@@ -54,6 +54,14 @@ namespace granflow
     std::string
     file(const std::string &name) const;
 
+    /// "<target> was left as it was, and the log of this run is <staging>/log.txt": what a run
+    /// that ends before it has results says of its output (keep_staging()).
+    std::string
+    left_as_it_was() const
+    {
+      return final_path + " was left as it was, and the log of this run is " + file("log.txt");
+    }
+
     /// Whether committing would replace `existing` (a path relative to the working directory),
     /// because it is a file of the target whose name a run writes (a case file named
     /// parameters.prm in the output directory).

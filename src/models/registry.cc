@@ -72,17 +72,7 @@ namespace granflow
         {
           throw; // nothing is committed: the target directory stays as it was
         }
-      catch (const Interrupted &e)
-        {
-          if (!e.results_written())
-            {
-              out.keep_staging(); // nothing computed: the earlier results stay (the message says)
-              throw;
-            }
-          commit(); // what was written so far is kept
-          throw;
-        }
-      catch (const ConvergenceError &)
+      catch (const ConvergenceError &) // Interrupted included
         {
           commit(); // what was written so far is kept
           throw;
@@ -91,9 +81,7 @@ namespace granflow
         {
           // An internal error: this run's log is kept beside the target, which stays as it was.
           out.keep_staging();
-          throw std::runtime_error(std::string(e.what()) + " (" + dir +
-                                   " was left as it was; the log of this run is " +
-                                   out.file("log.txt") + ")");
+          throw std::runtime_error(std::string(e.what()) + " (" + out.left_as_it_was() + ")");
         }
       commit();
       summary["output_directory"] = out.target();

@@ -564,6 +564,24 @@ if [ "$got" -eq 130 ] && [ -s kept/summary.json ] && [ -s kept/solution-0000.vtu
   pass "interrupted before the solve keeps earlier results"
 else fail "interrupted before the solve keeps earlier results" "exit $got"; cat err.txt; ls -a kept; fi
 
+# Gmsh's meshing does not poll for a stop request: before anything is computed a signal ends the
+# run at once (a silo with an outlet extension of 1e5 meshed for minutes after SIGTERM), and the
+# target keeps what it had.
+mkdir -p long_mesh && echo mine >long_mesh/notes.txt
+"$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" --output long_mesh \
+  --set "Geometry/Outlet extension=1e5" >out.txt 2>err.txt &
+pid=$! waited=0
+until grep -q "meshing the half silo" out.txt || [ $waited -ge 600 ]; do sleep 0.05; waited=$((waited + 1)); done
+kill -TERM $pid
+waited=0
+while kill -0 $pid 2>/dev/null && [ $waited -lt 200 ]; do sleep 0.05; waited=$((waited + 1)); done
+if kill -0 $pid 2>/dev/null; then kill -KILL $pid; fi
+wait $pid
+got=$?
+if [ "$got" -eq 143 ] && [ $waited -lt 200 ] && grep -q "long_mesh was left as it was" err.txt &&
+  [ "$(ls long_mesh)" = notes.txt ]; then pass "signal while meshing stops at once"
+else fail "signal while meshing stops at once" "exit $got after $waited polls"; cat err.txt; ls long_mesh; fi
+
 # list-cases takes each case's first comment line with text (a bare '#' line ended it with an
 # internal error).
 mkdir -p listing/cases/mine

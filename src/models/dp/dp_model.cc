@@ -33,6 +33,7 @@
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <tuple>
@@ -230,6 +231,7 @@ namespace granflow::dp
       }
       nlohmann::json           timings = nlohmann::json::object();
       nlohmann::json           solver_json;
+      std::optional<interrupt::BeforeResults> before_results; // see run()
     };
 
     /// Calls f(b, n, x, y, w) for every node of every boundary face: the face's boundary id b and
@@ -986,7 +988,12 @@ namespace granflow::dp
           << prm.solver.tolerance << ")";
         log.progress(s.str());
       };
-      options.stop_requested = interrupt::requested;
+      // The solver's first question marks the end of the steps before results (the factorisation
+      // of A included): from then on a signal asks it to stop with its best iterate.
+      options.stop_requested = [this] {
+        before_results.reset();
+        return interrupt::requested();
+      };
       if (!prm.solver.dump_cone_problem.empty())
         try
           {
@@ -1052,6 +1059,9 @@ namespace granflow::dp
     Problem::run()
     {
       Results results;
+      // Until the solver has an iterate to write, a signal ends the run at once (Gmsh's meshing
+      // does not poll for it).
+      before_results.emplace(out.left_as_it_was());
       make_mesh();
       setup();
       assemble_constraint_operator();
@@ -1074,13 +1084,6 @@ namespace granflow::dp
         {
           assemble_velocity_operator(eta);
           set_residual_scale(eta);
-          // Nothing solved yet: a stop request ends the run here, before the factorisation.
-          if (viscosity_iterations == 0 && interrupt::requested())
-            throw Interrupted(std::string("stopped by ") + interrupt::signal_name() +
-                                  " before the solve: nothing was computed; " + out.target() +
-                                  " was left as it was, and the log of this run is " +
-                                  out.file("log.txt"),
-                              interrupt::signal_number(), false);
           log.phase(interior_point ? "interior-point iterations (" + std::to_string(n_free) +
                                          " free velocity dofs; each factorises its Newton matrix)"
                                    : "factorising A (" + std::to_string(n_free) +

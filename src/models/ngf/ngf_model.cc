@@ -1222,9 +1222,13 @@ namespace granflow::ngf
     Results
     Problem<dim>::run()
     {
-      compute_reference();
-      make_mesh();
-      setup_system();
+      {
+        // Until the first increment, a signal ends the run at once: nothing to write yet.
+        const interrupt::BeforeResults before_results(out.left_as_it_was());
+        compute_reference();
+        make_mesh();
+        setup_system();
+      }
       const double d = scale.d;
       log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
                 (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
