@@ -4,6 +4,7 @@
 #include "core/errors.h"
 #include "core/interrupt.h"
 #include "core/parameters.h"
+#include "core/run_report.h"
 #include "fem/mapping_without_cell_similarity.h"
 #include "geometry/geometry.h"
 #include "postprocess/analytic.h"
@@ -98,6 +99,8 @@ namespace granflow::dp
       make_mesh();
       void
       setup();
+      std::string
+      solver_failure(const solvers::ConeSolverStats &stats, bool interior_point) const;
       template <typename F>
       void
       for_each_boundary_node(const F &f) const;
@@ -219,17 +222,9 @@ namespace granflow::dp
 
       solvers::ConeProblemData data;
       solvers::ConeSolution    solution;
-      Vector<double>           u; // all velocity dofs
-      std::vector<std::string> warnings;      // for summary.json
+      Vector<double>           u;             // all velocity dofs
       std::vector<std::string> traction_free; // named boundaries with no condition
-      /// Logs "dp: warning: `text`" and keeps it for summary.json's "warnings".
-      void
-      warn(const std::string &text)
-      {
-        log.print("dp: warning: " + text + "\n");
-        warnings.push_back(text);
-      }
-      nlohmann::json           timings = nlohmann::json::object();
+      RunReport                report{log, out, "dp"}; // after log and out, which it refers to
       nlohmann::json           solver_json;
       std::optional<interrupt::BeforeResults> before_results; // see run()
     };
@@ -592,8 +587,9 @@ namespace granflow::dp
         if (free_index[i] >= 0)
           data.l[free_index[i]] += free_coefficient[i] * load[i];
       load_all              = std::move(load); // body force and tractions, no lifting
-      timings["assemble_A"] = timings.value("assemble_A", 0.) +
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      report.timings["assemble_A"] =
+          report.timings.value("assemble_A", 0.) +
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     }
 
     /// Daviet (34b)/(35b): gamma = H u + k with H = R^{+T} B. With P1d stress and constraints at
@@ -715,7 +711,7 @@ namespace granflow::dp
       const auto  msh = out.file("mesh.msh");
       const auto &f   = prm.case_file;
       for (const auto &message : prm.ignored_geometry_entries())
-        warn(message);
+        report.warn(message);
       // A fine mesh (1.5 million triangles at Mesh size 0.01 on the silo) took minutes without a
       // line on the console.
       mesh.before_meshing = [&](const double triangles) {
@@ -745,9 +741,9 @@ namespace granflow::dp
           std::filesystem::copy_file(g.mesh_file, msh,
                                      std::filesystem::copy_options::overwrite_existing, ec);
           if (ec)
-            warn("the mesh file " + g.mesh_file +
-                 " could not be copied into the output directory (" + ec.message() +
-                 "); the run goes on with the mesh read from it");
+            report.warn("the mesh file " + g.mesh_file +
+                        " could not be copied into the output directory (" + ec.message() +
+                        "); the run goes on with the mesh read from it");
         }
       if (g.refinements > 0)
         {
@@ -919,10 +915,11 @@ namespace granflow::dp
               traction_free.push_back(name);
             }
           if (edges[id] <= 1)
-            warn("boundary '" + name + "' is " + std::to_string(edges[id]) +
-                 " mesh edge: the mesh does not resolve it; a flow through or along it (an outlet, "
-                 "a jam) is "
-                 "the mesh's, not the model's: refine Geometry/Mesh size");
+            report.warn(
+                "boundary '" + name + "' is " + std::to_string(edges[id]) +
+                " mesh edge: the mesh does not resolve it; a flow through or along it (an outlet, "
+                "a jam) is "
+                "the mesh's, not the model's: refine Geometry/Mesh size");
         }
       if (!free.empty())
         log.print("dp: note: no condition on " + free +
@@ -1159,7 +1156,7 @@ namespace granflow::dp
             << viscosity_iterations << " iterations (last relative change of u " << change
             << ", tolerance " << prm.solver.viscosity_tolerance
             << "): every result here is that of its last iterate, not of a solution";
-          warn(w.str());
+          report.warn(w.str());
         }
       if (!stats.converged)
         {
@@ -1174,85 +1171,86 @@ namespace granflow::dp
             << " its tolerance (residual " << stats.residual << ", tolerance "
             << prm.solver.tolerance << (stats.stalled ? "; it stalled: " : "") << stats.stall_reason
             << "): every result here is that of its best iterate, not of a solution";
-          warn(w.str());
+          report.warn(w.str());
         }
       postprocess(results);
       if (prm.output.write_vtu)
         write_vtu();
-      results.summary["warnings"]           = warnings; // with those of postprocess()
-      results.summary["timings"]            = timings;
-      results.summary["timings"]["total_s"] = log.elapsed();
-      out.write_json("summary.json", results.summary);
-
+      std::string failure;
       if (!stats.converged)
-        {
-          std::ostringstream s;
-          s << "the " << (interior_point ? "interior-point method" : "Cadoux fixed point");
-          if (stats.interrupted)
-            s << " was stopped by " << interrupt::signal_name() << " at residual " << stats.residual
-              << " (tolerance " << prm.solver.tolerance << ") after " << stats.outer_iterations
-              << " iterations. ";
-          else if (stats.stalled)
-            s << " stalled at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
-              << ") after " << stats.outer_iterations << " iterations: " << stats.stall_reason
-              << " (docs/solvers.md), which higher limits do not change; a looser "
-                 "Solver/Tolerance, "
-                 "another mesh or Solver/Method = fixed point may. ";
-          else if (stats.timed_out)
-            s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds
-              << " at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
-              << ") after " << stats.outer_iterations << " iterations. ";
-          else
-            {
-              s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
-                << stats.residual << " after " << stats.outer_iterations << " iterations";
-              // A fixed point whose second half of iterations did not halve the least residual
-              // of the first oscillates or crawls (the Bagnold layer at tan alpha = 0.7: between
-              // 2.5e-5 and 5e-5 for 450 iterations, where the interior point converges in 9 s),
-              // and higher limits are no remedy.
-              const auto  &history = stats.residual_history;
-              const size_t half    = history.size() / 2;
-              double       first = 0., second = 0.;
-              bool         stagnating = false;
-              if (!interior_point && history.size() >= 20)
-                {
-                  first      = *std::min_element(history.begin(), history.begin() + half);
-                  second     = *std::min_element(history.begin() + half, history.end());
-                  stagnating = second > 0.5 * first;
-                }
-              if (stagnating)
-                {
-                  s << "; over its last " << history.size() - half
-                    << " iterations the least residual fell only from " << first << " to " << second
-                    << ", so higher limits will not help";
-                  if (prm.rheology.Bi == 0. && prm.rheology.mu > 0.)
-                    s << "; Solver/Method = interior point may). ";
-                  else
-                    s << "). ";
-                }
-              else
-                s << "; raise "
-                  << (interior_point ? "Solver/Max outer iterations). "
-                                     : "Solver/Max outer iterations or Max inner iterations). ");
-            }
-          // The problem is dimensionless (23): a mesh drawn in mm is a silo of 1000 L.
-          if (const double size = GridTools::diameter(mesh.triangulation);
-              !stats.interrupted && (size > 1e3 || size < 1e-3))
-            s << "The mesh is " << size
-              << " across: lengths are in units of L (23), and a mesh drawn in other units, mm "
-                 "say, makes a problem the solvers cannot scale. ";
-          s << "The iterate of least residual was written to " << out.target();
-          if (stats.interrupted)
-            throw Interrupted(s.str(), interrupt::signal_number());
-          throw ConvergenceError(s.str());
-        }
-      if (bagnold && change > prm.solver.viscosity_tolerance)
-        throw ConvergenceError("the viscosity fixed point did not converge in " +
-                               std::to_string(viscosity_iterations) +
-                               " iterations (raise Solver/Viscosity iterations); the last iterate "
-                               "was written to " +
-                               out.target());
+        failure = solver_failure(stats, interior_point);
+      else if (!viscosity_converged)
+        failure = "the viscosity fixed point did not converge in " +
+                  std::to_string(viscosity_iterations) +
+                  " iterations (raise Solver/Viscosity iterations); the last iterate was written "
+                  "to " +
+                  out.target();
+      report.finish(results.summary, failure, stats.interrupted); // with postprocess()'s warnings
       return results;
+    }
+
+    /// What the exit message says of a cone solve that did not reach its tolerance: how it ended,
+    /// what may help, and where its best iterate is.
+    std::string
+    Problem::solver_failure(const solvers::ConeSolverStats &stats, const bool interior_point) const
+    {
+      std::ostringstream s;
+      s << "the " << (interior_point ? "interior-point method" : "Cadoux fixed point");
+      if (stats.interrupted)
+        s << " was stopped by " << interrupt::signal_name() << " at residual " << stats.residual
+          << " (tolerance " << prm.solver.tolerance << ") after " << stats.outer_iterations
+          << " iterations. ";
+      else if (stats.stalled)
+        s << " stalled at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
+          << ") after " << stats.outer_iterations << " iterations: " << stats.stall_reason
+          << " (docs/solvers.md), which higher limits do not change; a looser "
+             "Solver/Tolerance, "
+             "another mesh or Solver/Method = fixed point may. ";
+      else if (stats.timed_out)
+        s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds << " at residual "
+          << stats.residual << " (tolerance " << prm.solver.tolerance << ") after "
+          << stats.outer_iterations << " iterations. ";
+      else
+        {
+          s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
+            << stats.residual << " after " << stats.outer_iterations << " iterations";
+          // A fixed point whose second half of iterations did not halve the least residual
+          // of the first oscillates or crawls (the Bagnold layer at tan alpha = 0.7: between
+          // 2.5e-5 and 5e-5 for 450 iterations, where the interior point converges in 9 s),
+          // and higher limits are no remedy.
+          const auto  &history = stats.residual_history;
+          const size_t half    = history.size() / 2;
+          double       first = 0., second = 0.;
+          bool         stagnating = false;
+          if (!interior_point && history.size() >= 20)
+            {
+              first      = *std::min_element(history.begin(), history.begin() + half);
+              second     = *std::min_element(history.begin() + half, history.end());
+              stagnating = second > 0.5 * first;
+            }
+          if (stagnating)
+            {
+              s << "; over its last " << history.size() - half
+                << " iterations the least residual fell only from " << first << " to " << second
+                << ", so higher limits will not help";
+              if (prm.rheology.Bi == 0. && prm.rheology.mu > 0.)
+                s << "; Solver/Method = interior point may). ";
+              else
+                s << "). ";
+            }
+          else
+            s << "; raise "
+              << (interior_point ? "Solver/Max outer iterations). "
+                                 : "Solver/Max outer iterations or Max inner iterations). ");
+        }
+      // The problem is dimensionless (23): a mesh drawn in mm is a silo of 1000 L.
+      if (const double size = GridTools::diameter(mesh.triangulation);
+          !stats.interrupted && (size > 1e3 || size < 1e-3))
+        s << "The mesh is " << size
+          << " across: lengths are in units of L (23), and a mesh drawn in other units, mm "
+             "say, makes a problem the solvers cannot scale. ";
+      s << "The iterate of least residual was written to " << out.target();
+      return s.str();
     }
 
     /// Fields at the constraint points (stress lambda; discrete strain rate gamma / (2 w_i), the
@@ -1402,7 +1400,7 @@ namespace granflow::dp
           w << "where the body is rigid the velocity is unique, the stress is not (4.4.4): p, tau "
                "and the boundary forces are one admissible field in equilibrium with the loads, "
                "which the method picks (the fixed point and the interior point differ)";
-          warn(w.str());
+          report.warn(w.str());
         }
       // (a body rigid everywhere has no flow to separate: the warning above covers it)
       if (!all_rigid && pf.n_rigid > 0 && pf.max_D0 > 0. && pf.rigid_D0_max > 0.01 * pf.max_D0)
@@ -1415,7 +1413,7 @@ namespace granflow::dp
             << " % of the largest abs D0 (" << pf.max_D0
             << "), because of Solver/Tolerance = " << prm.solver.tolerance
             << "; lower the tolerance for a zone map (README, Output directory)";
-          warn(w.str());
+          report.warn(w.str());
         }
     }
 
@@ -1534,7 +1532,7 @@ namespace granflow::dp
                     << (1. - Bi) / h << " elements (longest edge h = " << h
                     << "): the mesh does not resolve it, and max_rel_error is " << max_err / max_ref
                     << "; refine (Geometry/Mesh size or Global refinements)";
-                  warn(w.str());
+                  report.warn(w.str());
                 }
               S["plug"] = {{"points", plug_points},
                            {"max_scaled_strain_rate_T", plug_gamma_T},
@@ -1629,7 +1627,7 @@ namespace granflow::dp
                 << (entering.empty() ? std::string()
                                      : "; the material enters through '" + entering +
                                            "': set Output/Inflow boundary = " + entering);
-              warn(w.str());
+              report.warn(w.str());
               inflow_reversed = true;
             }
         }
@@ -1680,7 +1678,7 @@ namespace granflow::dp
                 << "' are rigid; the stress in a rigid zone is not unique (only the velocity is, "
                    "Daviet 4.4.4), so boundary_force and drag are not determined by the model "
                    "there and depend on the solver";
-              warn(w.str());
+              report.warn(w.str());
             }
           // The trace of the stress field, lambda n = (lambda_xx n_x + lambda_xy n_y) with lambda =
           // chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]]: the earlier estimate,

@@ -2,6 +2,7 @@
 
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/run_report.h"
 #include "fem/mapping_without_cell_similarity.h"
 #include "models/ngf/ngf_element.h"
 #include "postprocess/nonlocal_1d.h"
@@ -123,14 +124,6 @@ namespace granflow::ngf
       assemble(double dt, bool with_jacobian);
       bool
       newton(double dt, unsigned int increment, unsigned int &iterations);
-      /// Logs "ngf: warning: `text`" and keeps it for summary.json's "warnings".
-      void
-      warn(const std::string &text)
-      {
-        log.print("ngf: warning: " + text + "\n");
-        warnings.push_back(text);
-      }
-      std::vector<std::string> warnings;
 
       /// Name of p / scale.P_wall in the VTU and stress.csv: P_wall for the column and the annulus
       /// row, the hydrostatic pressure at the floor phi rho_s G H for the annulus (Fig. 6).
@@ -264,6 +257,7 @@ namespace granflow::ngf
       const Scales      scale;
       OutputDirectory  &out;
       Logger           &log;
+      RunReport         report{log, out, "ngf"}; // after log and out, which it refers to
       NonlocalElement   element;
 
       Triangulation<dim>                          tria;
@@ -1113,18 +1107,19 @@ namespace granflow::ngf
           else
             w << "the results are those of the last converged increment, at " << s.u_wall / d
               << " d of wall displacement of " << scale.u_end / d << " d, not of a steady flow";
-          warn(w.str());
+          report.warn(w.str());
         }
       if ((s.failure.empty() || s.interrupted) && !steady)
-        warn(why_not_steady +
-             (s.interrupted ? ": rerun it to the end before using mu_wall, W/d or the profiles as "
-                              "steady results"
-              : slice       ? ": run further (Loading/Wall rotation) before using mu_wall, W/d or "
-                              "the profiles as steady results; beyond about 6 degrees the slice "
-                              "drifts from the quad section (docs/ngf.md), which is the one for "
-                              "long runs"
-                            : ": run further (Loading/Wall displacement or Wall rotation) before "
-                              "using mu_wall, W/d or the profiles as steady results"));
+        report.warn(why_not_steady +
+                    (s.interrupted
+                         ? ": rerun it to the end before using mu_wall, W/d or the profiles as "
+                           "steady results"
+                     : slice ? ": run further (Loading/Wall rotation) before using mu_wall, W/d or "
+                               "the profiles as steady results; beyond about 6 degrees the slice "
+                               "drifts from the quad section (docs/ngf.md), which is the one for "
+                               "long runs"
+                             : ": run further (Loading/Wall displacement or Wall rotation) before "
+                               "using mu_wall, W/d or the profiles as steady results"));
       // The implicit, first-order time integration (Section 4) gives a steady state that depends
       // on the increment: in the shear column, mu_wall is about 10 % x (increment / d) below its
       // increment-converged value (-0.08 % at the default 0.01 d, -0.5 % at 0.05 d, -2.3 % at
@@ -1140,7 +1135,7 @@ namespace granflow::ngf
                        : " % (the shear column's rate, docs/ngf.md; in the "
                          "annuli it differs)")
             << "; lower Solver/Max increment (default 0.01) for results to 0.1 %";
-          warn(w.str());
+          report.warn(w.str());
         }
     }
 
@@ -1178,7 +1173,7 @@ namespace granflow::ngf
              "size)";
       else
         w << " (" << refine_advice() << ")";
-      warn(w.str());
+      report.warn(w.str());
     }
 
     template <int dim>
@@ -1215,7 +1210,7 @@ namespace granflow::ngf
           << prm.geometry.slice_angle << "); ";
       w << "for rotations beyond about 5 degrees use the quad section (Geometry/Shape = "
            "annulus)";
-      warn(w.str());
+      report.warn(w.str());
     }
 
     template <int dim>
@@ -1254,22 +1249,16 @@ namespace granflow::ngf
       if (prm.output.write_vtu)
         write_vtu(s.v);
       write_histories(s.h_disp, s.h_mu, s.h_iter);
-      summary["timings"]     = {{"total_s", log.elapsed()},
-                                {"assembly_s", assembly_seconds},
-                                {"linear_solve_s", solve_seconds}};
-      summary["warnings"]    = warnings;
+      report.timings = {{"assembly_s", assembly_seconds}, {"linear_solve_s", solve_seconds}};
       summary["converged"]   = s.failure.empty();
       summary["interrupted"] = s.interrupted;
-      out.write_json("summary.json", summary);
-      if (!s.failure.empty())
-        {
-          const std::string message = s.failure + "; the last converged state (wall displacement " +
-                                      std::to_string(s.u_wall / d) + " d) is written to " +
-                                      out.target() + " (see log.txt)";
-          if (s.interrupted)
-            throw Interrupted(message, interrupt::signal_number());
-          throw ConvergenceError(message);
-        }
+      report.finish(summary,
+                    s.failure.empty()
+                        ? ""
+                        : s.failure + "; the last converged state (wall displacement " +
+                              std::to_string(s.u_wall / d) + " d) is written to " + out.target() +
+                              " (see log.txt)",
+                    s.interrupted);
       log.print("ngf: mu_wall = " + summary["mu_wall"].dump() +
                 ", W/d = " + summary["shear_band_width_over_d"].dump() + ", " +
                 std::to_string(s.increment) + " increments, " + std::to_string(s.total_iterations) +
@@ -1294,7 +1283,7 @@ namespace granflow::ngf
             << strain
             << " times the smaller elastic modulus: elastic strains that large are outside the "
                "model's intended range (Henann 6: about 1e-4)";
-          warn(w.str());
+          report.warn(w.str());
         }
     }
 
@@ -1629,9 +1618,10 @@ namespace granflow::ngf
       if (std::isnan(W))
         {
           if (finished)
-            warn("the velocity does not decay to v_wall / e across the domain: no shear band, "
-                 "shear_band_width_over_d is null (the body still loading elastically, or a band "
-                 "wider than the domain)");
+            report.warn(
+                "the velocity does not decay to v_wall / e across the domain: no shear band, "
+                "shear_band_width_over_d is null (the body still loading elastically, or a band "
+                "wider than the domain)");
           summary["shear_band_width_over_d"] = nullptr;
         }
       else
@@ -1647,7 +1637,7 @@ namespace granflow::ngf
                 << " < h/d = " << scale.h / scale.d
                 << "): W/d is interpolated inside the first element and depends on the mesh; "
                 << refine_advice();
-              warn(w.str());
+              report.warn(w.str());
             }
           // A band of a few elements is resolved, but coarsely: in the shear column at
           // P_wall / (phi rho_s G d) = 0.5 (W = 1.8 h) mu_wall and W/d are 11 % off the FD
@@ -1661,7 +1651,7 @@ namespace granflow::ngf
                 << "): at fewer than 3, mu_wall, W/d and the profile carry discretisation errors "
                    "of several per cent (docs/ngf.md); "
                 << refine_advice();
-              warn(w.str());
+              report.warn(w.str());
             }
         }
       // A band that reaches the far boundary, where v = 0 is imposed, is shaped by the size of
@@ -1673,7 +1663,7 @@ namespace granflow::ngf
             << " one element from it (at " << x[x.size() - 2]
             << " d): the band is confined by the domain, and W/d and mu_wall depend on its size ("
             << (column ? "Geometry/Depth" : "Geometry/Gap") << ")";
-          warn(w.str());
+          report.warn(w.str());
         }
       return W;
     }
@@ -1751,7 +1741,7 @@ namespace granflow::ngf
             << "; mu_wall, the wall's shear stress over P_wall as in the paper, includes "
                "this, mu_wall_local = tau / p = "
             << mu_wall / p_wall << " does not";
-          warn(w.str());
+          report.warn(w.str());
         }
       if (summary.contains("reference"))
         compare_rate_dependent_part(summary, column ? mu_wall : mu_wall / p_wall);
