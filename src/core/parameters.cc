@@ -368,6 +368,16 @@ namespace granflow
     return items;
   }
 
+  double
+  parse_number(const std::string &text)
+  {
+    std::size_t  used  = 0;
+    const double value = std::stod(text, &used); // throws for no number, out_of_range for 1e400
+    if (!trim(text.substr(used)).empty() || !std::isfinite(value))
+      throw std::invalid_argument("not a finite number: '" + text + "'");
+    return value;
+  }
+
   std::vector<std::pair<std::string, double>>
   parse_named_values(const std::string &list, const std::string &file, const std::string &entry)
   {
@@ -379,11 +389,7 @@ namespace granflow
           {
             if (colon == std::string::npos)
               throw std::invalid_argument("");
-            std::size_t used  = 0;
-            const auto  value = std::stod(item.substr(colon + 1), &used);
-            if (trim(item.substr(colon + 1 + used)) != "" || !std::isfinite(value))
-              throw std::invalid_argument("");
-            result.emplace_back(trim(item.substr(0, colon)), value);
+            result.emplace_back(trim(item.substr(0, colon)), parse_number(item.substr(colon + 1)));
           }
         catch (const std::exception &)
           {

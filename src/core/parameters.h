@@ -99,6 +99,11 @@ namespace granflow
   std::vector<std::string>
   split_list(const std::string &list, char separator = ',');
 
+  /// The finite number that is the whole of `text` (spaces around it aside); throws
+  /// std::invalid_argument for anything else ("1abc", "", "nan", "1e400").
+  double
+  parse_number(const std::string &text);
+
   /// Parses "name: value, name: value" into pairs; throws InputError naming file and entry.
   std::vector<std::pair<std::string, double>>
   parse_named_values(const std::string &list, const std::string &file, const std::string &entry);

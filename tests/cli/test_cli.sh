@@ -191,6 +191,8 @@ bad interior-point-needs-mu "Solver/Method" --set "Solver/Method=interior point"
 bad Re-too-large "Rheology/Re" --set "Rheology/Re=1e200"
 bad refinements-too-many "Geometry/Global refinements" --set "Geometry/Global refinements=7"
 bad gravity-not-finite "Gravity direction" --set "Gravity direction=nan, 1"
+bad gravity-empty-item "'1,,0' is not a point" --set "Gravity direction=1,,0"
+bad gravity-trailing-text "'1abc, 0' is not a point" --set "Gravity direction=1abc, 0"
 bad external-pressure-not-finite "finite number" --set "Boundary conditions/External pressure=inlet: inf"
 bad profile-off-the-mesh "Output/Profile start" --set "Output/Profile start=100, 100" --set "Output/Profile end=101, 100"
 # Named as the whole subsection, whose entries can each fix the motion (naming No-slip confused a

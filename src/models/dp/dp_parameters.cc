@@ -300,15 +300,13 @@ namespace granflow::dp
   dealii::Point<2>
   parse_point(const std::string &text, const std::string &file, const std::string &entry)
   {
-    const auto items = split_list(text);
     try
       {
-        if (items.size() != 2)
+        // exactly two numbers: "1,,0" is no point (split_list drops empty items)
+        const auto comma = text.find(',');
+        if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos)
           throw std::invalid_argument("");
-        const dealii::Point<2> p(std::stod(items[0]), std::stod(items[1]));
-        if (!std::isfinite(p[0]) || !std::isfinite(p[1]))
-          throw std::invalid_argument("");
-        return p;
+        return {parse_number(text.substr(0, comma)), parse_number(text.substr(comma + 1))};
       }
     catch (const std::exception &)
       {
