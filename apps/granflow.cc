@@ -1,6 +1,7 @@
 // granflow command line: run a case file, list the shipped cases, print a model's parameters.
 #include "core/errors.h"
 #include "core/interrupt.h"
+#include "core/parameters.h"
 #include "models/registry.h"
 
 #include <deal.II/base/parameter_handler.h>
@@ -123,10 +124,17 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
       }
     if (request.case_file.empty())
       throw granflow::InputError("run: missing CASE.prm (see granflow --help)");
-    // One value per entry, as in a case file (which refuses an entry set twice).
+    // One value per entry, as in a case file (which refuses an entry set twice); compared as the
+    // entry they set, whose names are trimmed ("Solver / Tolerance" is Solver/Tolerance).
+    const auto entry = [](const std::string &path) {
+      std::string joined;
+      for (const auto &name : granflow::split_list(path, '/'))
+        joined += (joined.empty() ? "" : "/") + name;
+      return joined;
+    };
     for (std::size_t i = 0; i < request.overrides.size(); ++i)
       for (std::size_t j = 0; j < i; ++j)
-        if (request.overrides[j].path == request.overrides[i].path)
+        if (entry(request.overrides[j].path) == entry(request.overrides[i].path))
           throw granflow::InputError("--set " + request.overrides[i].path + "=" +
                                      request.overrides[i].value + ": " + request.overrides[i].path +
                                      " is set twice (also = " + request.overrides[j].value +

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <csignal>
+#include <cstddef>
 
 #include <unistd.h>
 
@@ -10,9 +11,12 @@ namespace granflow::interrupt
 {
   namespace
   {
-    volatile std::sig_atomic_t received = 0;
-    volatile std::sig_atomic_t at_once       = 0;  // inside a BeforeResults scope
-    char                       outcome[4096] = ""; // its outcome, written before at_once is set
+    // Atomics, not volatile sig_atomic_t: the handler may run on any thread (Gmsh meshes with
+    // OpenMP), and lock-free atomics are safe in it (C++17 [support.signal]).
+    std::atomic<int> received{0};
+    std::atomic<int> at_once{0};         // inside a BeforeResults scope
+    char             outcome[4096] = ""; // its outcome, written before at_once is set
+    static_assert(std::atomic<int>::is_always_lock_free);
 
     void
     say(const char *text)
@@ -39,9 +43,11 @@ namespace granflow::interrupt
     extern "C" void
     handle(const int signal)
     {
+      // received first, at_once second, and the reverse in BeforeResults(): with sequentially
+      // consistent atomics a signal arriving while a scope begins is seen by one of the two.
+      received = signal;
       if (at_once)
         stop_at_once(signal);
-      received = signal;
       // The next one gets the default action: a user who presses Ctrl-C twice means it.
       std::signal(signal, SIG_DFL);
       // Said at once (write(2) is async-signal-safe), so that nobody presses it twice unawares.
@@ -88,10 +94,9 @@ namespace granflow::interrupt
     const std::size_t n = std::min(text.size(), sizeof(outcome) - 1);
     std::copy_n(text.begin(), n, outcome);
     outcome[n] = '\0';
-    std::atomic_signal_fence(std::memory_order_seq_cst); // the handler sees the whole text
-    at_once = 1;
-    if (received != 0)
-      stop_at_once(received);
+    at_once    = 1; // a release of the text above to the handler, which reads at_once first
+    if (const int signal = received; signal != 0)
+      stop_at_once(signal);
   }
 
   BeforeResults::~BeforeResults()

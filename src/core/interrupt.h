@@ -3,9 +3,10 @@
 // residual) state, the output directory is committed, and the command line exits with 128 + the
 // signal number. A second signal ends the process at once, as without the handler.
 //
-// Steps that cannot poll (Gmsh's meshing, the first factorisation) run inside a
-// BeforeResults scope, where the first signal ends the process at once: nothing has been computed
-// that could be written, and the output directory is left as it was.
+// The steps before a run has anything to write (Gmsh's meshing, which cannot poll; the setup; dp's
+// first factorisation of A) run inside a BeforeResults scope, where the first signal ends the
+// process at once: nothing has been computed that could be written, and the output directory is
+// left as it was.
 #pragma once
 
 #include <string>

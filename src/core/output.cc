@@ -80,11 +80,6 @@ namespace granflow
     for (const auto &entry : fs::recursive_directory_iterator(root))
       if (entry.is_regular_file())
         written.push_back(fs::relative(entry.path(), root));
-    {
-      std::ofstream manifest(fs::path(root) / manifest_name);
-      for (const auto &file : written)
-        manifest << file.generic_string() << '\n';
-    }
     // The earlier run's files that this run did not write: only those its manifest lists, so
     // that a user's own files in the directory are never touched, even where their names look
     // like a run's (profiles/notes.csv, history.csv). A directory without a manifest (new, or
@@ -110,6 +105,20 @@ namespace granflow
       }
     for (const auto &file : stale)
       fs::remove(file);
+    // The manifest last, once the earlier run's files are gone: a commit that fails before this
+    // leaves the earlier manifest, which still lists them for the next run to remove.
+    {
+      const fs::path manifest = fs::path(final_path) / manifest_name;
+      const fs::path tmp      = manifest.string() + ".tmp";
+      {
+        std::ofstream out(tmp);
+        for (const auto &file : written)
+          out << file.generic_string() << '\n';
+        if (!out)
+          throw std::runtime_error("cannot write " + tmp.string());
+      }
+      fs::rename(tmp, manifest);
+    }
     fs::remove_all(root);
     root      = final_path;
     committed = true;
@@ -119,8 +128,8 @@ namespace granflow
   OutputDirectory::would_replace(const std::string &existing) const
   {
     std::error_code ec;
-    const fs::path  file   = fs::weakly_canonical(existing, ec);
-    const fs::path  target = fs::weakly_canonical(final_path, ec);
+    const fs::path  file   = fs::weakly_canonical(fs::absolute(existing), ec);
+    const fs::path  target = fs::weakly_canonical(fs::absolute(final_path), ec);
     if (ec || !fs::is_regular_file(file, ec))
       return false;
     const fs::path relative = file.lexically_relative(target);
@@ -128,9 +137,23 @@ namespace granflow
   }
 
   bool
+  OutputDirectory::in_target(const std::string &path) const
+  {
+    std::error_code ec;
+    // absolute first: a target not yet made has no existing prefix to make it absolute
+    const fs::path file   = fs::weakly_canonical(fs::absolute(fs::path(root) / path), ec);
+    const fs::path target = fs::weakly_canonical(fs::absolute(final_path), ec);
+    if (ec)
+      return false;
+    const fs::path relative = file.lexically_relative(target);
+    return !relative.empty() && *relative.begin() != "..";
+  }
+
+  bool
   OutputDirectory::is_run_file(const std::string &relative)
   {
-    return is_run_output(fs::path(relative).lexically_normal());
+    const fs::path path = fs::path(relative).lexically_normal();
+    return is_run_output(path) || path == manifest_name;
   }
 
   std::string

@@ -68,6 +68,12 @@ namespace granflow
     bool
     would_replace(const std::string &existing) const;
 
+    /// Whether `path` (as given to file(): relative to the output directory, or absolute) is in
+    /// the target directory itself: a file the run writes there directly, not through staging,
+    /// is replaced or removed when the run commits, and is there even if the run fails.
+    bool
+    in_target(const std::string &path) const;
+
     /// Whether `relative` (a path in an output directory) is the name of a file a run writes.
     static bool
     is_run_file(const std::string &relative);

@@ -635,9 +635,11 @@ namespace granflow::geometry
     if (D < 0.5 * h)
       throw InputError(source, entry::diameter,
                        str(D) + " is too small for Geometry/Mesh size = " + str(h) +
-                           " (the cylinder would have fewer than 5 edges): expected a number in [" +
-                           str(0.5 * h) + ", " + str(std::min(width, length)) +
-                           "), or a smaller Mesh size");
+                           " (the cylinder would have fewer than 5 edges): expected " +
+                           (0.5 * h < std::min(width, length)
+                                ? "a number in [" + str(0.5 * h) + ", " +
+                                      str(std::min(width, length)) + "), or a smaller Mesh size"
+                                : "a Mesh size of at most " + str(2 * D)));
     // Counts the zone within D of the cylinder, meshed up to three times finer, nine times.
     check_mesh_size(mesh, h,
                     length * width + 8 * std::min(length * width, 2 * dealii::numbers::PI * D * D),

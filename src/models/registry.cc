@@ -34,7 +34,8 @@ namespace granflow
                                    : request.output_directory;
       OutputDirectory    out(dir);
       if (out.would_replace(request.case_file))
-        throw InputError("--output " + dir +
+        throw InputError((request.output_directory.empty() ? "output directory " : "--output ") +
+                         dir +
                          ": the run writes its own files there, and would "
                          "replace the case file " +
                          request.case_file +

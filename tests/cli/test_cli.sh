@@ -584,6 +584,19 @@ if [ "$got" -eq 143 ] && [ $waited -lt 200 ] && grep -q "long_mesh was left as i
   [ "$(ls long_mesh)" = notes.txt ]; then pass "signal while meshing stops at once"
 else fail "signal while meshing stops at once" "exit $got after $waited polls"; cat err.txt; ls long_mesh; fi
 
+# A solve that meets its tolerance at once (0 iterations) never asks whether to stop; a signal
+# after it must not end the run as if nothing had been computed (it did: exit 130, no results).
+"$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm" --quiet --output at_once \
+  --set "Geometry/Mesh size=0.015" --set "Rheology/Bi=0.05" --set "Solver/Tolerance=0.1" >out.txt 2>err.txt &
+pid=$! waited=0
+until grep -qs "solve 1:" .at_once.staging/log.txt || [ $waited -ge 1200 ]; do sleep 0.05; waited=$((waited + 1)); done
+kill -INT $pid
+wait $pid
+got=$?
+if grep -q "0 fixed-point iterations" at_once/log.txt 2>/dev/null && [ -s at_once/summary.json ] &&
+  ! grep -q "before anything was computed" err.txt; then pass "signal after a solve converged at once keeps its results"
+else fail "signal after a solve converged at once keeps its results" "exit $got"; cat err.txt; fi
+
 # list-cases takes each case's first comment line with text (a bare '#' line ended it with an
 # internal error).
 mkdir -p listing/cases/mine
@@ -627,6 +640,9 @@ bad reference-bingham-needs-its-walls "needs Boundary conditions/No-slip = botto
   --set "Boundary conditions/No-slip=bottom" --set "Boundary conditions/Zero normal velocity=top"
 bad reference-bingham-no-pressure-difference "needs Boundary conditions/External pressure equal at inlet and outlet" \
   --set "Boundary conditions/External pressure=inlet: 1"
+# ... and ends that are free along the channel, not traction-free (max_rel_error 1.01, exit 0).
+bad reference-bingham-needs-free-ends "the ends (inlet, outlet) free along the channel" \
+  --set "Boundary conditions/Zero y-velocity="
 bad tolerance-too-loose "Solver/Tolerance=1.5: value '1.5' is invalid" --set "Solver/Tolerance=1.5"
 # A gravity vector of overflowing length is still a direction (it was taken as (0, 0): no flow).
 check gravity-overflow 0 "only its direction (1, 0) is used" "$GRANFLOW" run "$case_file" \
@@ -642,22 +658,30 @@ mkdir -p own && cp "$case_file" own/parameters.prm
 check case-file-in-output 2 "would replace the case file" "$GRANFLOW" run own/parameters.prm \
   --quiet --output own
 if cmp -s "$case_file" own/parameters.prm; then pass "case file kept"; else fail "case file kept"; fi
-"$GRANFLOW" run "$case_file" --quiet --output mixed --set "Output/Write vtu=false" >/dev/null 2>&1
+"$GRANFLOW" run "$case_file" --quiet --output mixed >/dev/null 2>&1
 echo "mine" >mixed/profiles/my_notes.csv
 echo "mine" >mixed/history.csv
 check rerun-keeps-user-files 0 "Results in mixed" "$GRANFLOW" run "$case_file" --output mixed \
   --quiet --set "Output/Write vtu=false" --set "Output/Reference=none"
 if [ -s mixed/profiles/my_notes.csv ] && [ -s mixed/history.csv ] && [ -s mixed/.granflow-files ] &&
-  grep -qx "summary.json" mixed/.granflow-files; then pass "user files kept, manifest written"
+  grep -qx "summary.json" mixed/.granflow-files && [ ! -e mixed/solution.pvd ] &&
+  ! grep -q "solution" mixed/.granflow-files; then pass "user files kept, manifest written"
 else fail "user files kept, manifest written"; ls -a mixed mixed/profiles; fi
 # An entry given twice on the command line is refused, as in a case file (the last one won).
 bad set-twice "Rheology/Bi is set twice (also = 0.2): expected each entry at most once" \
   --set "Rheology/Bi=0.2" --set "Rheology/Bi=0.3"
+bad set-twice-spaced "is set twice (also = 0.2): expected each entry at most once" \
+  --set "Rheology/Bi=0.2" --set "Rheology / Bi=0.3"
 check list-cases-extra 2 "list-cases: unexpected argument 'foo'" "$GRANFLOW" list-cases foo
 # A dump named like a file the run writes would be replaced by it; a continuum annulus of less
 # than a grain's radius is refused (R_i = 1e-9 d gave mu_wall = 4.8e15 with exit 0).
 bad dump-named-like-run-file "the run writes a file of that name" \
   --set "Solver/Dump cone problem=summary.json"
+bad dump-named-like-manifest "the run writes a file of that name" \
+  --set "Solver/Dump cone problem=.granflow-files"
+# A dump in the target itself bypassed the staging directory and was then replaced (exit 0).
+bad dump-into-target "itself, which the run fills only when it ends" \
+  --set "Solver/Dump cone problem=../keep/summary.json"
 check ngf-inner-radius-below-a-grain 2 "expected a number in [1, 100000]" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --quiet --output keep --set "Geometry/Inner radius=1e-9"
 # An overflowing domain size says so (it said "expected a number in [inf, inf)" of Mesh size).

@@ -931,8 +931,13 @@ namespace granflow::dp
         {
           const auto &bc    = prm.boundaries;
           const auto  walls = split_list(bc.no_slip);
+          std::set<std::string> free_ends;
+          for (const auto *list : {&bc.zero_y_velocity, &bc.zero_tangential_velocity})
+            for (const auto &name : split_list(*list))
+              free_ends.insert(name);
           if (std::set<std::string>(walls.begin(), walls.end()) !=
                   std::set<std::string>{"bottom", "top"} ||
+              free_ends != std::set<std::string>{"inlet", "outlet"} ||
               !split_list(bc.zero_x_velocity).empty() ||
               !split_list(bc.zero_normal_velocity).empty())
             throw InputError(prm.case_file, "Output/Reference",
@@ -985,8 +990,9 @@ namespace granflow::dp
           << prm.solver.tolerance << ")";
         log.progress(s.str());
       };
-      // The solver's first question marks the end of the steps before results (the factorisation
-      // of A included): from then on a signal asks it to stop with its best iterate.
+      // The solver's first question whether to stop ends the steps before results: it asks before
+      // its first iteration, the fixed point after factorising A, the interior point before its
+      // first factorisation. From then on a signal asks it to stop with its best iterate.
       options.stop_requested = [this] {
         before_results.reset();
         return interrupt::requested();
@@ -1057,8 +1063,14 @@ namespace granflow::dp
     {
       Results results;
       // Until the solver has an iterate to write, a signal ends the run at once (Gmsh's meshing
-      // does not poll for it).
+      // does not poll for it). The scope ends when the solver first asks whether to stop, or
+      // returns without asking (converged at once).
       before_results.emplace(out.left_as_it_was());
+      if (const auto &dump = prm.solver.dump_cone_problem; !dump.empty() && out.in_target(dump))
+        throw InputError(prm.case_file, "Solver/Dump cone problem",
+                         "= " + dump + " is in " + out.target() +
+                             " itself, which the run fills only when it ends: expected a name "
+                             "relative to the output directory (cone.bin) or a path outside it");
       make_mesh();
       setup();
       assemble_constraint_operator();
@@ -1087,6 +1099,7 @@ namespace granflow::dp
                                          " free velocity dofs), then fixed-point iterations");
           const Vector<double> u_old = u;
           stats = solve_cone_problem();
+          before_results.reset();
           outer_total += stats.outer_iterations;
           inner_total += stats.inner_iterations;
           solve_time += stats.time_solve;
