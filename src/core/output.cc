@@ -15,6 +15,8 @@ namespace granflow
   {
     /// The list of the files the run in a directory wrote (commit()).
     constexpr const char *manifest_name = ".granflow-files";
+    /// The staging directory inside the target, where the target's parent cannot be written.
+    constexpr const char *inner_staging_name = ".granflow-staging";
 
     fs::path
     normalised(const std::string &path)
@@ -55,8 +57,20 @@ namespace granflow
       throw InputError("--output " + path +
                        ": exists and is not a directory: expected a directory "
                        "or a new path");
-    fs::remove_all(root, ec);
-    fs::create_directories(fs::path(root) / "profiles", ec);
+    const auto make = [&ec](const fs::path &staging) {
+      ec.clear();
+      fs::remove_all(staging, ec);
+      fs::create_directories(staging / "profiles", ec);
+      return !ec;
+    };
+    // Beside the target, so that a new target appears only when a run commits; inside an
+    // existing target whose parent cannot be written (a volume mounted in a container).
+    if (!make(root) && fs::is_directory(final_path))
+      {
+        const std::string inside = (fs::path(final_path) / inner_staging_name).string();
+        if (make(inside))
+          root = inside;
+      }
     if (ec)
       throw InputError("--output " + path + ": cannot create the output directory (" +
                        ec.message() + ")");
@@ -146,7 +160,9 @@ namespace granflow
     if (ec)
       return false;
     const fs::path relative = file.lexically_relative(target);
-    return !relative.empty() && *relative.begin() != "..";
+    const fs::path staged   = file.lexically_relative(fs::weakly_canonical(fs::absolute(root), ec));
+    return !relative.empty() && *relative.begin() != ".." &&
+           (staged.empty() || *staged.begin() == ".."); // not in a staging directory inside it
   }
 
   bool

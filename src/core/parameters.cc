@@ -8,6 +8,8 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iomanip>
+#include <iterator>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -154,13 +156,44 @@ namespace granflow
         throw InputError(file + ": cannot open the case file (no such readable file)");
     }
 
+    /// The case file's text without a UTF-8 byte-order mark, which some editors write and
+    /// deal.II took for part of the first word ("The line <set Model = dp> could not be parsed",
+    /// the mark invisible). A file with control characters (a binary file) is refused as not
+    /// text; deal.II quoted its bytes.
+    std::string
+    case_text(const std::string &file)
+    {
+      require_readable(file);
+      std::ifstream in(file, std::ios::binary);
+      std::string   text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+      if (text.rfind("\xEF\xBB\xBF", 0) == 0)
+        text.erase(0, 3);
+      unsigned int line = 1;
+      for (const char c : text)
+        {
+          const auto byte = static_cast<unsigned char>(c);
+          if (c == '\n')
+            ++line;
+          else if ((byte < 0x20 && c != '\t' && c != '\r' && c != '\f' && c != '\v') ||
+                   byte == 0x7f)
+            {
+              std::ostringstream hex;
+              hex << "0x" << std::hex << std::setw(2) << std::setfill('0') << unsigned(byte);
+              throw InputError(file + ": line " + std::to_string(line) + ": byte " + hex.str() +
+                               " is not text: expected a case file of 'set', 'subsection' and "
+                               "'end' lines (`granflow print-parameters MODEL` writes one)");
+            }
+        }
+      return text;
+    }
+
     /// What ParameterHandler does not say, with the line: a subsection left open at the end of the
     /// file (deal.II's message has no line), and an entry set twice (deal.II keeps the last value
     /// without a word, so a user's edit above a forgotten line had no effect).
     void
-    check_structure(const std::string &file)
+    check_structure(const std::string &file, const std::string &text)
     {
-      std::ifstream                                 in(file);
+      std::istringstream                            in(text);
       std::vector<std::pair<std::string, unsigned>> open;   // subsection name, line
       std::map<std::string, unsigned>               set_on; // "Section/key" -> line
       std::string                                   line, logical;
@@ -279,13 +312,14 @@ namespace granflow
   std::string
   read_model_name(const std::string &case_file)
   {
-    require_readable(case_file);
-    check_structure(case_file);
+    const std::string text = case_text(case_file);
+    check_structure(case_file, text);
     dealii::ParameterHandler prm;
     prm.declare_entry("Model", "", dealii::Patterns::Anything(), "");
     try
       {
-        prm.parse_input(case_file, "", true);
+        std::istringstream in(text);
+        prm.parse_input(in, case_file, "", true);
       }
     catch (const dealii::ExceptionBase &e)
       {
@@ -303,11 +337,12 @@ namespace granflow
                   const std::vector<Override>    &overrides,
                   const std::vector<std::string> &path_entries)
   {
-    require_readable(case_file);
-    check_structure(case_file);
+    const std::string text = case_text(case_file);
+    check_structure(case_file, text);
     try
       {
-        prm.parse_input(case_file, "", false, true);
+        std::istringstream in(text); // the text format whatever the file's extension
+        prm.parse_input(in, case_file);
       }
     catch (const dealii::ExceptionBase &e)
       {

@@ -684,6 +684,28 @@ bad dump-into-target "itself, which the run fills only when it ends" \
   --set "Solver/Dump cone problem=../keep/summary.json"
 check ngf-inner-radius-below-a-grain 2 "expected a number in [1, 100000]" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --quiet --output keep --set "Geometry/Inner radius=1e-9"
+# A byte-order mark (some editors write one) is no part of the first line (deal.II could not parse
+# it and quoted it invisibly); a binary file is refused as not text (its bytes were quoted).
+{ printf '\xef\xbb\xbf'; cat "$case_file"; } >bom.prm
+check case-file-with-bom 0 "Results in bom" "$GRANFLOW" run bom.prm --quiet --output bom \
+  --set "Output/Write vtu=false" --set "Geometry/Mesh size=0.2"
+head -c 300 "$GRANFLOW" >binary.prm
+check case-file-binary 2 "binary.prm: line 1: byte 0x7f is not text" "$GRANFLOW" run binary.prm --quiet
+# An existing output directory whose parent cannot be written (a volume mounted in a container)
+# stages inside itself; it was refused. Root ignores permissions, so the parent is made read-only
+# by a bind mount in a user namespace, where the machine allows one.
+mkdir -p ro_parent/dir && echo mine >ro_parent/dir/notes.txt
+ro() { unshare -rm sh -c 'mount --bind ro_parent ro_parent && mount -o remount,bind,ro ro_parent &&
+  mount --bind ro_parent/dir ro_parent/dir && mount -o remount,bind,rw ro_parent/dir && "$@"' sh "$@"; }
+if ro touch ro_parent/dir/probe 2>/dev/null && ! ro touch ro_parent/probe 2>/dev/null; then
+  check output-under-read-only-parent 0 "Results in ro_parent/dir" ro "$GRANFLOW" run "$case_file" \
+    --quiet --output ro_parent/dir --set "Output/Write vtu=false"
+  if [ -s ro_parent/dir/summary.json ] && [ -s ro_parent/dir/notes.txt ] &&
+    [ ! -e ro_parent/dir/.granflow-staging ]; then pass "output under a read-only parent"
+  else fail "output under a read-only parent"; ls -a ro_parent/dir; fi
+else
+  echo "skip output-under-read-only-parent: no user namespace with bind mounts on this machine"
+fi
 # An overflowing domain size says so (it said "expected a number in [inf, inf)" of Mesh size).
 bad domain-overflow "the domain's area is inf" --set "Geometry/Channel length=1e308" \
   --set "Geometry/Channel width=1e308" --set "Output/Reference=none"
