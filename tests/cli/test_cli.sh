@@ -706,6 +706,16 @@ if ro touch ro_parent/dir/probe 2>/dev/null && ! ro touch ro_parent/probe 2>/dev
 else
   echo "skip output-under-read-only-parent: no user namespace with bind mounts on this machine"
 fi
+# ngf far outside its elastic range fails in its first increment; the exit message says why (it
+# named only the residuals), and the summary warns at both ends.
+check ngf-elastic-too-soft 3 "the elastic strains, about 39742 (pressure over modulus), are outside" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm" --quiet --output ngf_soft \
+  --set "Material/Bulk modulus=1e-2" --set "Output/Write vtu=false"
+check ngf-elastic-too-stiff 3 "the elastic strains, about 3.9742e-11 (pressure over modulus), are outside" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm" --quiet --output ngf_stiff \
+  --set "Material/Shear modulus=1e13" --set "Material/Bulk modulus=1e14" --set "Output/Write vtu=false"
+if grep -q "elastic strains that small are lost in the round-off" ngf_stiff/summary.json; then
+  pass "ngf too stiff warns"; else fail "ngf too stiff warns"; fi
 # An overflowing domain size says so (it said "expected a number in [inf, inf)" of Mesh size).
 bad domain-overflow "the domain's area is inf" --set "Geometry/Channel length=1e308" \
   --set "Geometry/Channel width=1e308" --set "Output/Reference=none"

@@ -177,6 +177,13 @@ namespace granflow::ngf
       /// The 3D cells' volume-change spread, and the slice's warning when it drifts.
       void
       report_distortion(nlohmann::json &summary);
+      /// The largest pressure over the smaller elastic modulus: the scale of the elastic strains.
+      double
+      elastic_strain_scale() const;
+      /// Whether elastic_strain_scale() is outside [1e-9, 1e-2], where the model and the solver are
+      /// meant to work.
+      bool
+      outside_elastic_range() const;
       void
       warn_if_outside_elastic_range();
       void
@@ -1270,21 +1277,42 @@ namespace granflow::ngf
     /// S = 1 MPa); loads of the order of the moduli compact the bed by tens of per cent, where the
     /// quadratic energy (12) and phi = const (27) stop being a model of a granular bed.
     template <int dim>
+    double
+    Problem<dim>::elastic_strain_scale() const
+    {
+      const double p_max = column ? scale.P_wall + scale.body_force * scale.depth
+                                  : std::max(scale.P_wall, scale.body_force * scale.H);
+      return p_max / std::min(prm.material.elastic.S, prm.material.elastic.B);
+    }
+
+    template <int dim>
+    bool
+    Problem<dim>::outside_elastic_range() const
+    {
+      const double strain = elastic_strain_scale();
+      return strain > 1e-2 || strain < 1e-9;
+    }
+
+    template <int dim>
     void
     Problem<dim>::warn_if_outside_elastic_range()
     {
-      const double p_max  = column ? scale.P_wall + scale.body_force * scale.depth
-                                   : std::max(scale.P_wall, scale.body_force * scale.H);
-      const double strain = p_max / std::min(prm.material.elastic.S, prm.material.elastic.B);
-      if (strain > 0.01)
-        {
-          std::ostringstream w;
-          w << std::setprecision(3) << "the largest pressure, about " << p_max << " Pa, is "
-            << strain
-            << " times the smaller elastic modulus: elastic strains that large are outside the "
-               "model's intended range (Henann 6: about 1e-4)";
-          report.warn(w.str());
-        }
+      if (!outside_elastic_range())
+        return;
+      const double       strain = elastic_strain_scale();
+      std::ostringstream w;
+      w << std::setprecision(3) << "the largest pressure, about "
+        << strain * std::min(prm.material.elastic.S, prm.material.elastic.B) << " Pa, is " << strain
+        << " times the smaller elastic modulus: ";
+      // Far below, the elastic strains drown in the round-off of the positions: the column with
+      // S = 1e13 Pa (1e-11) failed in its first increment, with 1e12 Pa it ran.
+      if (strain > 1e-2)
+        w << "elastic strains that large are outside the model's intended range (Henann 6: about "
+             "1e-4)";
+      else
+        w << "elastic strains that small are lost in the round-off of the positions, and Newton "
+             "may fail (Henann 6: about 1e-4)";
+      report.warn(w.str());
     }
 
     /// U at the start of an increment of length dt: U_n continued at the last increment's rate
@@ -1395,6 +1423,10 @@ namespace granflow::ngf
             s << " below " << std::sqrt(6.) * xi_min / scale.d << " d at least";
           s << (at_cap ? "" : " (the paper uses h/d = 1/3)");
         }
+      if (outside_elastic_range())
+        s << "; the elastic strains, about " << elastic_strain_scale()
+          << " (pressure over modulus), are outside the range the model and its solver are meant "
+             "for, about 1e-4 (Material/Shear modulus, Material/Bulk modulus, Loading)";
       return s.str();
     }
 
