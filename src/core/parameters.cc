@@ -383,12 +383,23 @@ namespace granflow
   }
 
   void
-  rethrow_naming_overrides(const InputError &e, const std::vector<Override> &overrides)
+  rethrow_naming_overrides(const InputError &e, const std::string &case_file,
+                           const std::vector<Override> &overrides)
   {
+    if (e.entry().empty() || overrides.empty())
+      throw e;
     for (auto o = overrides.rbegin(); o != overrides.rend(); ++o)
-      if (!e.entry().empty() && o->path == e.entry())
+      if (split_list(o->path, '/') == split_list(e.entry(), '/'))
         throw InputError("--set " + o->path + "=" + o->value, e.entry(), e.detail());
-    throw e;
+    // An entry of the case file judged with values from the command line (the Bingham reference
+    // refused for --set 'Boundary conditions/Zero y-velocity='): both are named.
+    const std::string prefix = case_file + ": entry '";
+    if (std::string(e.what()).rfind(prefix, 0) != 0)
+      throw e;
+    std::string with;
+    for (const auto &o : overrides)
+      with += (with.empty() ? " with --set " : ", --set ") + o.path + "=" + o.value;
+    throw InputError(case_file + with, e.entry(), e.detail());
   }
 
   std::vector<std::string>

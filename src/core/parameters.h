@@ -67,9 +67,12 @@ namespace granflow
                   const std::vector<std::string> &path_entries = {});
 
   /// Re-throws `e`; if it is about an entry that an override set, it names that
-  /// `--set Section/key=value` instead of the case file, which does not hold the value.
+  /// `--set Section/key=value` instead of the case file, which does not hold the value; if it is
+  /// about another entry of `case_file` and there were overrides, it names the file "with --set
+  /// ..." all of them, for the error may come from their values.
   [[noreturn]] void
-  rethrow_naming_overrides(const InputError &e, const std::vector<Override> &overrides);
+  rethrow_naming_overrides(const InputError &e, const std::string &case_file,
+                           const std::vector<Override> &overrides);
 
   /// Declares the entries of a model's Parameters in `prm` (declare(prm)), parses `case_file` with
   /// the overrides and validates (validate()); InputError on bad input.

@@ -126,7 +126,7 @@ namespace granflow
           {
             // found by validate() or while running (a mesh lacking a boundary, a profile line off
             // the mesh, ...): a value from the command line is blamed on its --set
-            rethrow_naming_overrides(e, request.overrides);
+            rethrow_naming_overrides(e, request.case_file, request.overrides);
           }
     std::string known;
     for (const auto &m : models())

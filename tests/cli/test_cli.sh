@@ -641,7 +641,11 @@ bad reference-bingham-needs-its-walls "needs Boundary conditions/No-slip = botto
 bad reference-bingham-no-pressure-difference "needs Boundary conditions/External pressure equal at inlet and outlet" \
   --set "Boundary conditions/External pressure=inlet: 1"
 # ... and ends that are free along the channel, not traction-free (max_rel_error 1.01, exit 0).
+# The message names the --set whose value the case file's entry was judged with (it named the
+# case file alone, which holds the right value).
 bad reference-bingham-needs-free-ends "the ends (inlet, outlet) free along the channel" \
+  --set "Boundary conditions/Zero y-velocity="
+bad error-names-the-set "bingham_poiseuille.prm with --set Boundary conditions/Zero y-velocity=: entry 'Output/Reference'" \
   --set "Boundary conditions/Zero y-velocity="
 bad tolerance-too-loose "Solver/Tolerance=1.5: value '1.5' is invalid" --set "Solver/Tolerance=1.5"
 # A gravity vector of overflowing length is still a direction (it was taken as (0, 0): no flow).
