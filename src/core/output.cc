@@ -7,6 +7,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <sys/stat.h>
+
 namespace granflow
 {
   namespace fs = std::filesystem;
@@ -44,6 +46,21 @@ namespace granflow
           return true;
       return name.rfind("solution-", 0) == 0 && relative.extension() == ".vtu";
     }
+    /// Renames `from` to `to`, or copies it where the two are on different mounts (a bind mount
+    /// of the same file system too, which st_dev does not tell apart).
+    void
+    move(const fs::path &from, const fs::path &to)
+    {
+      std::error_code ec;
+      fs::rename(from, to, ec);
+      if (ec == std::errc::cross_device_link)
+        {
+          fs::copy_file(from, to, fs::copy_options::overwrite_existing);
+          fs::remove(from);
+        }
+      else if (ec)
+        throw fs::filesystem_error("cannot move", from, to, ec);
+    }
   } // namespace
 
   OutputDirectory::OutputDirectory(const std::string &path)
@@ -64,8 +81,16 @@ namespace granflow
       return !ec;
     };
     // Beside the target, so that a new target appears only when a run commits; inside an
-    // existing target whose parent cannot be written (a volume mounted in a container).
-    if (!make(root) && fs::is_directory(final_path))
+    // existing target that is on another file system than its parent (a volume mounted in a
+    // container: renames across the two fail) or whose parent cannot be written.
+    const auto device = [](const fs::path &p) {
+      struct stat status;
+      return ::stat(p.c_str(), &status) == 0 ? static_cast<long long>(status.st_dev) : -1LL;
+    };
+    std::error_code status_ec;
+    const bool      mounted = fs::is_directory(final_path, status_ec) &&
+                         device(final_path) != device(fs::absolute(final_path).parent_path());
+    if ((mounted || !make(root)) && fs::is_directory(final_path, status_ec))
       {
         const std::string inside = (fs::path(final_path) / inner_staging_name).string();
         if (make(inside))
@@ -98,15 +123,32 @@ namespace granflow
     // that a user's own files in the directory are never touched, even where their names look
     // like a run's (profiles/notes.csv, history.csv). A directory without a manifest (new, or
     // written before session 18) loses nothing; its files of the same names are replaced.
-    std::vector<fs::path> stale;
+    std::vector<fs::path> stale; // relative to the target
     if (std::ifstream manifest(fs::path(final_path) / manifest_name); manifest)
       for (std::string line; std::getline(manifest, line);)
         {
           const fs::path relative = fs::path(line).lexically_normal();
           if (!line.empty() && is_run_output(relative) && !fs::exists(fs::path(root) / relative) &&
               fs::is_regular_file(fs::path(final_path) / relative))
-            stale.push_back(fs::path(final_path) / relative);
+            stale.push_back(relative);
         }
+    const auto write_manifest = [this](const std::vector<fs::path> &files) {
+      const fs::path manifest = fs::path(final_path) / manifest_name;
+      const fs::path tmp      = manifest.string() + ".tmp";
+      {
+        std::ofstream out(tmp);
+        for (const auto &file : files)
+          out << file.generic_string() << '\n';
+        if (!out)
+          throw std::runtime_error("cannot write " + tmp.string());
+      }
+      fs::rename(tmp, manifest);
+    };
+    // Before anything moves, the manifest lists both runs' files, and after, this run's: a commit
+    // that fails part-way leaves every file of either run listed for the next run to remove.
+    std::vector<fs::path> both = written;
+    both.insert(both.end(), stale.begin(), stale.end());
+    write_manifest(both);
     // The new files first, then the earlier run's leftovers: a move that fails part-way leaves
     // the earlier run's files that it did not replace in place.
     for (const auto &entry : fs::recursive_directory_iterator(root))
@@ -115,24 +157,15 @@ namespace granflow
         if (entry.is_directory())
           fs::create_directories(target);
         else
-          fs::rename(entry.path(), target);
+          move(entry.path(), target);
       }
     for (const auto &file : stale)
-      fs::remove(file);
-    // The manifest last, once the earlier run's files are gone: a commit that fails before this
-    // leaves the earlier manifest, which still lists them for the next run to remove.
-    {
-      const fs::path manifest = fs::path(final_path) / manifest_name;
-      const fs::path tmp      = manifest.string() + ".tmp";
-      {
-        std::ofstream out(tmp);
-        for (const auto &file : written)
-          out << file.generic_string() << '\n';
-        if (!out)
-          throw std::runtime_error("cannot write " + tmp.string());
-      }
-      fs::rename(tmp, manifest);
-    }
+      fs::remove(fs::path(final_path) / file);
+    write_manifest(written);
+    // a staging folder an earlier run left inside the target (keep_staging()); the name is ours
+    std::error_code ec;
+    if (fs::path(root) != fs::path(final_path) / inner_staging_name)
+      fs::remove_all(fs::path(final_path) / inner_staging_name, ec);
     fs::remove_all(root);
     root      = final_path;
     committed = true;
@@ -148,6 +181,15 @@ namespace granflow
       return false;
     const fs::path relative = file.lexically_relative(target);
     return !relative.empty() && *relative.begin() != ".." && is_run_output(relative);
+  }
+
+  std::string
+  OutputDirectory::left_as_it_was() const
+  {
+    if (fs::path(root) == fs::path(final_path) / inner_staging_name)
+      return final_path + " is as it was but for its hidden " + inner_staging_name +
+             ", which holds the log of this run, " + file("log.txt");
+    return final_path + " was left as it was, and the log of this run is " + file("log.txt");
   }
 
   bool

@@ -57,10 +57,7 @@ namespace granflow
     /// "<target> was left as it was, and the log of this run is <staging>/log.txt": what a run
     /// that ends before it has results says of its output (keep_staging()).
     std::string
-    left_as_it_was() const
-    {
-      return final_path + " was left as it was, and the log of this run is " + file("log.txt");
-    }
+    left_as_it_was() const;
 
     /// Whether committing would replace `existing` (a path relative to the working directory),
     /// because it is a file of the target whose name a run writes (a case file named

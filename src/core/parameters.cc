@@ -392,13 +392,18 @@ namespace granflow
       if (split_list(o->path, '/') == split_list(e.entry(), '/'))
         throw InputError("--set " + o->path + "=" + o->value, e.entry(), e.detail());
     // An entry of the case file judged with values from the command line (the Bingham reference
-    // refused for --set 'Boundary conditions/Zero y-velocity='): both are named.
+    // refused for --set 'Boundary conditions/Zero y-velocity='): the overrides of the entries the
+    // message names are named beside the file.
     const std::string prefix = case_file + ": entry '";
     if (std::string(e.what()).rfind(prefix, 0) != 0)
       throw e;
     std::string with;
     for (const auto &o : overrides)
-      with += (with.empty() ? " with --set " : ", --set ") + o.path + "=" + o.value;
+      if (const auto names = split_list(o.path, '/');
+          !names.empty() && e.detail().find(names.back()) != std::string::npos)
+        with += (with.empty() ? " with --set " : ", --set ") + o.path + "=" + o.value;
+    if (with.empty())
+      throw e;
     throw InputError(case_file + with, e.entry(), e.detail());
   }
 

@@ -68,8 +68,8 @@ namespace granflow
 
   /// Re-throws `e`; if it is about an entry that an override set, it names that
   /// `--set Section/key=value` instead of the case file, which does not hold the value; if it is
-  /// about another entry of `case_file` and there were overrides, it names the file "with --set
-  /// ..." all of them, for the error may come from their values.
+  /// about another entry of `case_file` whose message names entries that overrides set, it names
+  /// the file "with --set ..." those overrides, for the error may come from their values.
   [[noreturn]] void
   rethrow_naming_overrides(const InputError &e, const std::string &case_file,
                            const std::vector<Override> &overrides);

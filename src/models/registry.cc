@@ -57,11 +57,16 @@ namespace granflow
         catch (const std::exception &e)
           {
             out.keep_staging();
-            throw std::runtime_error(std::string(e.what()) + " (while moving the results into " +
-                                     dir +
-                                     ", which may now mix this run's files with an earlier "
-                                     "run's; what was not moved is in " +
-                                     out.path() + ")");
+            bool            unmoved = false;
+            std::error_code ec;
+            for (std::filesystem::recursive_directory_iterator f(out.path(), ec), end;
+                 !ec && f != end; f.increment(ec))
+              unmoved = unmoved || f->is_regular_file();
+            throw std::runtime_error(
+                std::string(e.what()) + " (while moving the results into " + dir +
+                ", which may now mix this run's files with an earlier run's, until the next run "
+                "into it removes them" +
+                (unmoved ? "; what was not moved is in " + out.path() : std::string()) + ")");
           }
       };
       nlohmann::json summary;

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <fstream>
 #include <stdexcept>
 
@@ -69,7 +70,10 @@ namespace granflow::solvers
   void
   save_cone_problem(const ConeProblemData &data, const std::string &file)
   {
-    std::ofstream out(file, std::ios::binary);
+    // Into a temporary file renamed at the end: a run stopped while writing (a signal before
+    // results ends the process at once) leaves an earlier dump of that name whole.
+    const std::string tmp = file + ".tmp";
+    std::ofstream     out(tmp, std::ios::binary);
     if (!out)
       throw std::runtime_error("cannot write cone problem to '" + file + "'");
     const std::uint64_t header[2] = {magic, data.block_size};
@@ -82,8 +86,11 @@ namespace granflow::solvers
     write_vector(out, data.Bi);
     write_vector(out, data.gamma_scale);
     out.close();
-    if (!out)
-      throw std::runtime_error("cannot write cone problem to '" + file + "'");
+    if (!out || std::rename(tmp.c_str(), file.c_str()) != 0)
+      {
+        std::remove(tmp.c_str());
+        throw std::runtime_error("cannot write cone problem to '" + file + "'");
+      }
   }
 
   ConeProblemData
