@@ -126,15 +126,10 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
       throw granflow::InputError("run: missing CASE.prm (see granflow --help)");
     // One value per entry, as in a case file (which refuses an entry set twice); compared as the
     // entry they set, whose names are trimmed ("Solver / Tolerance" is Solver/Tolerance).
-    const auto entry = [](const std::string &path) {
-      std::string joined;
-      for (const auto &name : granflow::split_list(path, '/'))
-        joined += (joined.empty() ? "" : "/") + name;
-      return joined;
-    };
     for (std::size_t i = 0; i < request.overrides.size(); ++i)
       for (std::size_t j = 0; j < i; ++j)
-        if (entry(request.overrides[j].path) == entry(request.overrides[i].path))
+        if (granflow::split_list(request.overrides[j].path, '/') ==
+            granflow::split_list(request.overrides[i].path, '/'))
           throw granflow::InputError("--set " + request.overrides[i].path + "=" +
                                      request.overrides[i].value + ": " + request.overrides[i].path +
                                      " is set twice (also = " + request.overrides[j].value +

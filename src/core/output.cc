@@ -46,6 +46,41 @@ namespace granflow
           return true;
       return name.rfind("solution-", 0) == 0 && relative.extension() == ".vtu";
     }
+    /// Writes `content` to `path` through a temporary file renamed over it: a reader never sees a
+    /// half-written file.
+    void
+    write_atomically(const fs::path &path, const std::string &content)
+    {
+      const fs::path tmp = path.string() + ".tmp";
+      {
+        std::ofstream out(tmp);
+        out << content;
+        if (!out)
+          throw std::runtime_error("cannot write " + tmp.string());
+      }
+      fs::rename(tmp, path);
+    }
+
+    /// `path` made absolute and canonical as far as it exists; empty if that fails.
+    fs::path
+    resolved(const fs::path &path)
+    {
+      std::error_code ec;
+      // absolute first: a path not yet made has no existing prefix to make it absolute
+      const fs::path result = fs::weakly_canonical(fs::absolute(path), ec);
+      return ec ? fs::path() : result;
+    }
+
+    /// `path` relative to `dir` if it is `dir` or inside it (both canonical), else empty.
+    fs::path
+    within(const fs::path &path, const fs::path &dir)
+    {
+      if (path.empty() || dir.empty())
+        return {};
+      const fs::path relative = path.lexically_relative(dir);
+      return relative.empty() || *relative.begin() == ".." ? fs::path() : relative;
+    }
+
     /// Renames `from` to `to`, or copies it where the two are on different mounts (a bind mount
     /// of the same file system too, which st_dev does not tell apart).
     void
@@ -88,9 +123,10 @@ namespace granflow
       return ::stat(p.c_str(), &status) == 0 ? static_cast<long long>(status.st_dev) : -1LL;
     };
     std::error_code status_ec;
-    const bool      mounted = fs::is_directory(final_path, status_ec) &&
-                         device(final_path) != device(fs::absolute(final_path).parent_path());
-    if ((mounted || !make(root)) && fs::is_directory(final_path, status_ec))
+    const bool      existing = fs::is_directory(final_path, status_ec);
+    const bool      mounted =
+        existing && device(final_path) != device(fs::absolute(final_path).parent_path());
+    if ((mounted || !make(root)) && existing)
       {
         const std::string inside = (fs::path(final_path) / inner_staging_name).string();
         if (make(inside))
@@ -133,16 +169,10 @@ namespace granflow
             stale.push_back(relative);
         }
     const auto write_manifest = [this](const std::vector<fs::path> &files) {
-      const fs::path manifest = fs::path(final_path) / manifest_name;
-      const fs::path tmp      = manifest.string() + ".tmp";
-      {
-        std::ofstream out(tmp);
-        for (const auto &file : files)
-          out << file.generic_string() << '\n';
-        if (!out)
-          throw std::runtime_error("cannot write " + tmp.string());
-      }
-      fs::rename(tmp, manifest);
+      std::string list;
+      for (const auto &file : files)
+        list += file.generic_string() + '\n';
+      write_atomically(fs::path(final_path) / manifest_name, list);
     };
     // Before anything moves, the manifest lists both runs' files, and after, this run's: a commit
     // that fails part-way leaves every file of either run listed for the next run to remove.
@@ -175,12 +205,11 @@ namespace granflow
   OutputDirectory::would_replace(const std::string &existing) const
   {
     std::error_code ec;
-    const fs::path  file   = fs::weakly_canonical(fs::absolute(existing), ec);
-    const fs::path  target = fs::weakly_canonical(fs::absolute(final_path), ec);
-    if (ec || !fs::is_regular_file(file, ec))
+    const fs::path  file = resolved(existing);
+    if (!fs::is_regular_file(file, ec))
       return false;
-    const fs::path relative = file.lexically_relative(target);
-    return !relative.empty() && *relative.begin() != ".." && is_run_output(relative);
+    const fs::path relative = within(file, resolved(final_path));
+    return !relative.empty() && is_run_output(relative);
   }
 
   std::string
@@ -195,16 +224,9 @@ namespace granflow
   bool
   OutputDirectory::in_target(const std::string &path) const
   {
-    std::error_code ec;
-    // absolute first: a target not yet made has no existing prefix to make it absolute
-    const fs::path file   = fs::weakly_canonical(fs::absolute(fs::path(root) / path), ec);
-    const fs::path target = fs::weakly_canonical(fs::absolute(final_path), ec);
-    if (ec)
-      return false;
-    const fs::path relative = file.lexically_relative(target);
-    const fs::path staged   = file.lexically_relative(fs::weakly_canonical(fs::absolute(root), ec));
-    return !relative.empty() && *relative.begin() != ".." &&
-           (staged.empty() || *staged.begin() == ".."); // not in a staging directory inside it
+    const fs::path file = resolved(fs::path(root) / path);
+    // not in a staging directory inside it
+    return !within(file, resolved(final_path)).empty() && within(file, resolved(root)).empty();
   }
 
   bool
@@ -223,14 +245,7 @@ namespace granflow
   void
   OutputDirectory::write_text(const std::string &name, const std::string &content) const
   {
-    const std::string target = file(name), tmp = target + ".tmp";
-    {
-      std::ofstream out(tmp);
-      out << content;
-      if (!out)
-        throw std::runtime_error("cannot write " + tmp);
-    }
-    fs::rename(tmp, target);
+    write_atomically(file(name), content);
   }
 
   void
