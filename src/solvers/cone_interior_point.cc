@@ -31,6 +31,7 @@
 #include <iomanip>
 #include <limits>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 
 namespace granflow::solvers
@@ -215,6 +216,7 @@ namespace granflow::solvers
           *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
                        << "   iter      residual           gap       primal         dual      step"
                           "      time[s]\n";
+        const InteriorPointTunables &tune = options.interior_point;
         detail::SolveMonitor monitor(options, stats);
         Vector               best_u, best_lambda, best_gamma;
         double               step        = 0.;
@@ -226,7 +228,8 @@ namespace granflow::solvers
             const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
             const bool   least =
                 monitor.record(cone_residual(data, options.residual, lambda_z, gamma_u), elapsed);
-            if (stats.residual < 0.9 * progress_mark) // a 10 % gain resets the stagnation count
+            if (stats.residual <
+                tune.stagnation_ratio * progress_mark) // resets the stagnation count
               {
                 progress_mark      = stats.residual;
                 progress_iteration = stats.outer_iterations;
@@ -250,22 +253,16 @@ namespace granflow::solvers
             if (monitor.finished(true))
               break;
             step             = newton_step(u, sl, z);
-            short_steps      = step < 1e-4 ? short_steps + 1 : 0;
+            short_steps      = step < tune.short_step ? short_steps + 1 : 0;
             ++stats.outer_iterations;
             // No step keeps the iterate interior (rounding has taken over), or the iterates have
-            // left the central path and only crawl: stop with the best iterate.
-            // The same when 50 iterations have not gained 10 % on the best residual.
-            if (step == 0. || short_steps == 5 || stats.outer_iterations - progress_iteration >= 50)
+            // left the central path and only crawl, or the residual stagnates: stop with the best
+            // iterate.
+            if (step == 0. || short_steps == tune.short_steps ||
+                stats.outer_iterations - progress_iteration >= tune.stagnation_iterations)
               {
-                stats.stalled = true;
-                stats.stall_reason =
-                    !factorization_failure.empty() ? "the Newton matrix could not be factorised (" +
-                                                         factorization_failure + ")"
-                    : step == 0.       ? "no step kept the iterate interior (rounding)"
-                    : short_steps == 5 ? "5 successive steps were shorter than 1e-4 (the iterates "
-                                         "left the central path)"
-                                       : "50 iterations gained less than 10 % on the least "
-                                         "residual";
+                stats.stalled      = true;
+                stats.stall_reason = stall_reason(step, short_steps);
                 break;
               }
           }
@@ -279,6 +276,25 @@ namespace granflow::solvers
       }
 
     private:
+      /// Which stall rule of InteriorPointTunables ended the solve, in words.
+      std::string
+      stall_reason(const double step, const unsigned int short_steps) const
+      {
+        const InteriorPointTunables &tune = options.interior_point;
+        std::ostringstream           s;
+        if (!factorization_failure.empty())
+          s << "the Newton matrix could not be factorised (" << factorization_failure << ")";
+        else if (step == 0.)
+          s << "no step kept the iterate interior (rounding)";
+        else if (short_steps == tune.short_steps)
+          s << tune.short_steps << " successive steps were shorter than " << tune.short_step
+            << " (the iterates left the central path)";
+        else
+          s << tune.stagnation_iterations << " iterations gained less than "
+            << 100. * (1. - tune.stagnation_ratio) << " % on the least residual";
+        return s.str();
+      }
+
       double
       D(const std::size_t k) const
       {
@@ -484,8 +500,9 @@ namespace granflow::solvers
         z  = r_z;
         for (double &v : z)
           v = -v;
-        make_interior(sl, 1e-3);
-        make_interior(z, 1e-3 * std::max(1., norm_inf(z)));
+        const double margin = options.interior_point.initial_margin;
+        make_interior(sl, margin);
+        make_interior(z, margin * std::max(1., norm_inf(z)));
       }
 
       /// Largest step in [0, 1] along (dsl, dz) that keeps every block interior.
@@ -565,7 +582,8 @@ namespace granflow::solvers
         double       gap_affine = 0.;
         for (std::size_t k = 0; k < m; ++k)
           gap_affine += (sl[k] + t_affine * dsl[k]) * (z[k] + t_affine * dz[k]);
-        const double centering = std::pow(std::clamp(gap_affine / gap, 0., 1.), 3);
+        const double centering = std::pow(std::clamp(gap_affine / gap, 0., 1.),
+                                          options.interior_point.centering_exponent);
         for (std::size_t i = 0; i < n_points; ++i) // corrector
           {
             const Block ds = S::apply(W[i], block(dsl, i)), dzs = S::apply(W_inv[i], block(dz, i));
@@ -575,7 +593,7 @@ namespace granflow::solvers
             rc[i][0] += centering * tau;
           }
         direction(rc);
-        double t = std::min(1., 0.99 * max_step(sl, dsl, z, dz));
+        double t = std::min(1., options.interior_point.step_fraction * max_step(sl, dsl, z, dz));
         // Rounding can still put a block on the boundary: halve until every block is interior.
         const auto interior = [&](const double t) {
           for (std::size_t i = 0; i < n_points; ++i)

@@ -57,6 +57,57 @@ namespace granflow::solvers
     fischer_burmeister // SOC FB (Daviet et al. 2011), Bi = 0 only
   };
 
+  /// Tunables of Cadoux's fixed point and its inner solvers. The defaults are the values the
+  /// measurements of docs/solvers.md were made with; a case file does not set them.
+  struct FixedPointTunables
+  {
+    /// An outer iteration stalls when its residual is above stall_ratio times the least before it.
+    /// A stall drops the Anderson history; stalls_before_tightening successive stalls raise the
+    /// inner iteration cap (if the last inner solve hit it; up to max_inner_growth times
+    /// ConeSolverOptions::max_inner_iterations) or tighten the inner tolerance factor (down to
+    /// min_inner_tolerance_factor).
+    double       stall_ratio                = 0.9;
+    unsigned int stalls_before_tightening   = 2;
+    unsigned int max_inner_growth           = 64;
+    double       min_inner_tolerance_factor = 1e-4;
+    /// The inner tolerance never goes below this fraction of ConeSolverOptions::tolerance.
+    double inner_tolerance_floor = 1e-3;
+    /// Tikhonov regularisation of Anderson's least-squares normal equations (relative).
+    double anderson_regularization = 1e-10;
+    /// ||W|| is estimated by this many power iterations, times norm_margin (an upper estimate
+    /// is what the projected-gradient step 1/L needs).
+    unsigned int norm_estimate_iterations = 20;
+    double       norm_margin              = 1.1;
+    /// APGD: the first Lipschitz estimate is at least this fraction of ||W||'s estimate; after
+    /// each iteration the estimate shrinks by lipschitz_decrease (it doubles on backtracking).
+    double apgd_min_lipschitz_fraction = 1e-3;
+    double apgd_lipschitz_decrease     = 0.9;
+    /// SPG: nonmonotone Armijo search over the last spg_memory objective values, with the
+    /// sufficient-decrease constant spg_armijo; Barzilai-Borwein steps in [1/||W||, spg_max_step].
+    unsigned int spg_memory   = 10;
+    double       spg_armijo   = 1e-4;
+    double       spg_max_step = 1e10;
+  };
+
+  /// Tunables of the interior point (cone_interior_point.cc), defaults as measured in
+  /// docs/solvers.md.
+  struct InteriorPointTunables
+  {
+    /// Fraction of the longest step that keeps every block interior.
+    double step_fraction = 0.99;
+    /// Mehrotra's centring: sigma = (gap after the affine step / gap)^centering_exponent.
+    double centering_exponent = 3.;
+    /// The starting point is pushed this far (relative) into the interior of K_1.
+    double initial_margin = 1e-3;
+    /// Stall rules, each ending the solve with its best iterate: `short_steps` successive steps
+    /// shorter than `short_step`, or `stagnation_iterations` iterations without reducing the
+    /// least residual below `stagnation_ratio` times its value at the last such reduction.
+    double       short_step            = 1e-4;
+    unsigned int short_steps           = 5;
+    unsigned int stagnation_iterations = 50;
+    double       stagnation_ratio      = 0.9;
+  };
+
   struct ConeSolverOptions
   {
     ConeMethod   method       = ConeMethod::fixed_point;
@@ -77,6 +128,8 @@ namespace granflow::solvers
     /// Polled by the outer and the inner iterations: once it returns true, the solve ends as at
     /// the time limit, with the iterate of least residual and stats.interrupted set.
     std::function<bool()> stop_requested;
+    FixedPointTunables    fixed_point;
+    InteriorPointTunables interior_point;
   };
 
   struct ConeSolverStats

@@ -89,8 +89,9 @@ namespace granflow::solvers
     class AndersonAcceleration
     {
     public:
-      explicit AndersonAcceleration(const unsigned int depth)
-        : depth(depth)
+      AndersonAcceleration(const unsigned int depth, const double regularization)
+          : depth(depth)
+          , regularization(regularization)
       {}
 
       void
@@ -123,7 +124,7 @@ namespace granflow::solvers
           {
             for (std::size_t b = 0; b < k; ++b)
               M[a][b] = dot(dFs[a], dFs[b]);
-            M[a][a] *= 1. + 1e-10;
+            M[a][a] *= 1. + regularization;
             M[a][k] = dot(dFs[a], f);
           }
         std::vector<double> c;
@@ -147,17 +148,19 @@ namespace granflow::solvers
 
     private:
       unsigned int        depth;
+      double              regularization;
       std::vector<Vector> dFs, dGs;
       Vector              f_previous, F_previous;
     };
 
-    /// Upper estimate of ||W|| (W symmetric positive semi-definite): 20 power iterations, plus 10 %.
+    /// Upper estimate of ||W|| (W symmetric positive semi-definite): power iterations, times a
+    /// margin (FixedPointTunables).
     double
-    estimate_norm(DelassusOperator &W, const std::size_t m)
+    estimate_norm(DelassusOperator &W, const std::size_t m, const FixedPointTunables &tunables)
     {
       Vector x(m, 1.), y;
       double norm = 0.;
-      for (int k = 0; k < 20; ++k)
+      for (unsigned int k = 0; k < tunables.norm_estimate_iterations; ++k)
         {
           const double x_norm = std::sqrt(dot(x, x));
           if (x_norm == 0.)
@@ -168,7 +171,7 @@ namespace granflow::solvers
           norm = std::sqrt(dot(y, y));
           std::swap(x, y);
         }
-      return norm > 0. ? 1.1 * norm : 1.;
+      return norm > 0. ? tunables.norm_margin * norm : 1.;
     }
 
     /// The product of cones K_{mu_i, Bi_i} over the constraint points, blocks of n components.
@@ -350,7 +353,8 @@ namespace granflow::solvers
       unsigned int
       solve_apgd(Quadratic &s, const Vector &q, const double tolerance)
       {
-        double       L = std::max(1. / step, 1e-3 * lipschitz), theta = 1.;
+        double L = std::max(1. / step, options.fixed_point.apgd_min_lipschitz_fraction * lipschitz);
+        double theta   = 1.;
         Quadratic    y = s, x_new;
         Vector       diff;
         unsigned int it = 0;
@@ -391,7 +395,7 @@ namespace granflow::solvers
                 theta = theta_new;
               }
             s = std::move(x_new);
-            L *= 0.9;
+            L *= options.fixed_point.apgd_lipschitz_decrease;
           }
         step = 1. / L;
         return it;
@@ -403,8 +407,9 @@ namespace granflow::solvers
       unsigned int
       solve_spg(Quadratic &s, const Vector &q, const double tolerance)
       {
-        constexpr unsigned int memory = 10;
-        constexpr double       armijo = 1e-4;
+        const unsigned int     memory   = options.fixed_point.spg_memory;
+        const double           armijo   = options.fixed_point.spg_armijo;
+        const double           max_step = options.fixed_point.spg_max_step;
         std::vector<double>    J_history{s.J};
         Vector                 d, Wd;
         unsigned int           it = 0;
@@ -429,7 +434,7 @@ namespace granflow::solvers
               J_history.erase(J_history.begin());
             const double sy = t * t * dWd, ss = t * t * dot(d, d);
             // BB step, bounded below by 1/L: a collapsed step would stall in rounding.
-            step = sy > 0. ? std::clamp(ss / sy, 1. / lipschitz, 1e10) : 1e10;
+            step = sy > 0. ? std::clamp(ss / sy, 1. / lipschitz, max_step) : max_step;
           }
         return it;
       }
@@ -452,7 +457,8 @@ namespace granflow::solvers
 
       DelassusOperator   W(data, A_inv);
       ConeProduct<n>     K(data);
-      InnerSolverImpl<n> inner(K, W, options, estimate_norm(W, data.n_points() * n));
+      InnerSolverImpl<n> inner(K, W, options,
+                               estimate_norm(W, data.n_points() * n, options.fixed_point));
 
       const std::size_t m = data.n_points() * n;
       // w = H A^{-1} l + k (36)
@@ -469,7 +475,8 @@ namespace granflow::solvers
         *options.log << "  Cadoux fixed point (" << to_string(options.inner_solver) << ")\n"
                      << "   iter      residual   inner   W-apps      time[s]   inner-residual\n";
       Vector     q(m), gamma(m), s(data.n_points(), 0.), F_s(data.n_points(), 0.);
-      AndersonAcceleration anderson(options.anderson_depth);
+      const FixedPointTunables &tune = options.fixed_point;
+      AndersonAcceleration      anderson(options.anderson_depth, tune.anderson_regularization);
       double       inner_factor          = options.inner_tolerance_factor;
       unsigned int last_inner_iterations = 0, stalls = 0;
       Vector     best_lambda, best_gamma; // the iterate of least residual so far
@@ -501,23 +508,24 @@ namespace granflow::solvers
             break;
           // No progress: the extrapolation (built on inexact evaluations of F) is dropped first;
           // if the plain step stalls too, the inner solves are the suspects: one that hit its
-          // iteration cap gets a higher cap (up to 64 times the option), one that reached its
-          // tolerance a tighter tolerance (the inner natural-map residual and the outer
-          // residual weigh the components differently).
+          // iteration cap gets a higher cap, one that reached its tolerance a tighter tolerance
+          // (the inner natural-map residual and the outer residual weigh the components
+          // differently).
           const bool stalled =
-            stats.outer_iterations > 0 &&
-            stats.residual > 0.9 * *std::min_element(stats.residual_history.begin(),
-                                                     stats.residual_history.end() - 1);
+              stats.outer_iterations > 0 &&
+              stats.residual >
+                  tune.stall_ratio * *std::min_element(stats.residual_history.begin(),
+                                                       stats.residual_history.end() - 1);
           stalls = stalled ? stalls + 1 : 0;
           if (stalled)
             anderson.reset();
-          if (stalls >= 2)
+          if (stalls >= tune.stalls_before_tightening)
             {
               if (last_inner_iterations >= inner.max_iterations)
-                inner.max_iterations =
-                  std::min(2 * inner.max_iterations, 64 * options.max_inner_iterations);
+                inner.max_iterations = std::min(
+                    2 * inner.max_iterations, tune.max_inner_growth * options.max_inner_iterations);
               else
-                inner_factor = std::max(0.1 * inner_factor, 1e-4);
+                inner_factor = std::max(0.1 * inner_factor, tune.min_inner_tolerance_factor);
             }
           // F(s)_i = mu_i || gamma_{i,T} ||; the next s is F(s) (Algorithm 1) or its Anderson
           // extrapolation; q = w + (s; 0)   (37)
@@ -531,8 +539,8 @@ namespace granflow::solvers
           for (std::size_t i = 0; i < data.n_points(); ++i)
             q[i * n] += s[i];
           state.refresh(q);
-          const double inner_tolerance =
-            std::max(inner_factor * stats.residual, 1e-3 * options.tolerance);
+          const double inner_tolerance = std::max(inner_factor * stats.residual,
+                                                  tune.inner_tolerance_floor * options.tolerance);
           last_inner_iterations = inner.solve(state, q, inner_tolerance);
           stats.inner_iterations += last_inner_iterations;
           ++stats.outer_iterations;

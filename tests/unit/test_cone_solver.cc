@@ -327,6 +327,35 @@ TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
     EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6);
 }
 
+TEST(ConeInteriorPoint, ItsStallRulesAreTheOptionsTunables)
+{
+  // The coupled problem converges in about 20 iterations with the default tunables; each stall
+  // rule, tightened through ConeSolverOptions::interior_point, ends it earlier and is named.
+  const ConeProblemData data = coupled_random_problem();
+  ConeSolverOptions     options;
+  options.method    = ConeMethod::interior_point;
+  options.tolerance = 1e-7;
+  ConeSolution solution;
+  ASSERT_TRUE(solve_cone_problem(data, options, solution).converged);
+
+  ConeSolverOptions short_steps          = options;
+  short_steps.interior_point.short_step  = 2.; // every step (at most 1) is short
+  short_steps.interior_point.short_steps = 3;
+  auto stats                             = solve_cone_problem(data, short_steps, solution);
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_EQ(stats.outer_iterations, 3u);
+  EXPECT_EQ(stats.stall_reason, "3 successive steps were shorter than 2 (the iterates left the "
+                                "central path)");
+
+  ConeSolverOptions stagnation                    = options;
+  stagnation.interior_point.stagnation_iterations = 2;
+  stagnation.interior_point.stagnation_ratio      = 0.; // no residual counts as a gain
+  stats                                           = solve_cone_problem(data, stagnation, solution);
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_EQ(stats.outer_iterations, 2u);
+  EXPECT_EQ(stats.stall_reason, "2 iterations gained less than 100 % on the least residual");
+}
+
 TEST(ConeInteriorPoint, RejectsPointsOutsideItsScope)
 {
   // mu = 0 (K_0 is a ray) and Bi > 0 (truncated cone) are the fixed point's.
