@@ -985,18 +985,17 @@ namespace granflow::dp
       options.max_seconds          = prm.solver.max_seconds;
       options.log                  = &log.table();
       options.progress             = [this](const unsigned int k, const double r) {
+        // The steps before results end with the solver's first completed iteration: its starting
+        // point (no stress, or the interior point's least-squares start) is not worth replacing an
+        // earlier run's results with. From then on a signal asks it to stop with its best iterate.
+        if (k >= 1)
+          before_results.reset();
         std::ostringstream s;
         s << prm.solver.method << " iteration " << k << ": residual " << r << " (target "
           << prm.solver.tolerance << ")";
         log.progress(s.str());
       };
-      // The solver's first question whether to stop ends the steps before results: it asks before
-      // its first iteration, the fixed point after factorising A, the interior point before its
-      // first factorisation. From then on a signal asks it to stop with its best iterate.
-      options.stop_requested = [this] {
-        before_results.reset();
-        return interrupt::requested();
-      };
+      options.stop_requested = [] { return interrupt::requested(); };
       if (!prm.solver.dump_cone_problem.empty())
         try
           {
@@ -1063,8 +1062,8 @@ namespace granflow::dp
     {
       Results results;
       // Until the solver has an iterate to write, a signal ends the run at once (Gmsh's meshing
-      // does not poll for it). The scope ends when the solver first asks whether to stop, or
-      // returns without asking (converged at once).
+      // does not poll for it). The scope ends when the solver completes its first iteration
+      // (options.progress), or returns before one (converged at once).
       before_results.emplace(out.left_as_it_was());
       if (const auto &dump = prm.solver.dump_cone_problem; !dump.empty() && out.in_target(dump))
         throw InputError(prm.case_file, "Solver/Dump cone problem",
