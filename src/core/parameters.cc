@@ -419,6 +419,20 @@ namespace granflow
     return items;
   }
 
+  void
+  check_list_items(const std::string &list, const std::string &file, const std::string &entry)
+  {
+    if (trim(list).empty())
+      return;
+    std::stringstream in(list + ","); // getline drops a last empty item: the comma keeps it
+    std::string       item;
+    while (std::getline(in, item, ','))
+      if (trim(item).empty())
+        throw InputError(file, entry,
+                         "= " + trim(list) +
+                             " has an empty item: expected items separated by single commas");
+  }
+
   double
   parse_number(const std::string &text)
   {
@@ -432,6 +446,7 @@ namespace granflow
   std::vector<std::pair<std::string, double>>
   parse_named_values(const std::string &list, const std::string &file, const std::string &entry)
   {
+    check_list_items(list, file, entry);
     std::vector<std::pair<std::string, double>> result;
     for (const std::string &item : split_list(list))
       {

@@ -102,6 +102,11 @@ namespace granflow
   std::vector<std::string>
   split_list(const std::string &list, char separator = ',');
 
+  /// Refuses a comma-separated list with an empty item ("wall,,bottom", "wall,"): a typo that
+  /// split_list() would pass over. An empty list is none. Throws InputError naming file and entry.
+  void
+  check_list_items(const std::string &list, const std::string &file, const std::string &entry);
+
   /// The finite number that is the whole of `text` (spaces around it aside); throws
   /// std::invalid_argument for anything else ("1abc", "", "nan", "1e400").
   double

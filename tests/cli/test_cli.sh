@@ -177,6 +177,13 @@ check continued-comment-and-upper-case-end 0 "Results in continued" "$GRANFLOW" 
   --output continued --quiet --set "Output/Write vtu=false"
 check unknown-set-entry 2 "--set Rheology/Friction=0.5: unknown entry 'Rheology/Friction'" "$GRANFLOW" run \
   "$case_file" --output keep --quiet --set "Rheology/Friction=0.5"
+# An empty item in a list of boundaries is a typo (it was passed over without a word).
+bad boundary-list-empty-item "Boundary conditions/No-slip': = bottom,,top has an empty item" \
+  --set "Boundary conditions/No-slip=bottom,,top"
+bad boundary-list-trailing-comma "Boundary conditions/No-slip': = bottom, top, has an empty item" \
+  --set "Boundary conditions/No-slip=bottom, top,"
+bad pressure-list-empty-item "Boundary conditions/External pressure': = , left: 1 has an empty item" \
+  --set "Boundary conditions/External pressure=, left: 1"
 bad mu-negative "mu" --set "Rheology/mu=-0.1"
 # In 2D mu = sin(phi) < 1; both solvers failed on a closed hopper at mu = 2.
 bad mu-one "Rheology/mu=1: value '1' is invalid: expected a number in [0, 1)" --set "Rheology/mu=1"
@@ -368,6 +375,9 @@ ngf_bad mu_s-zero "Material/mu_s" --set "Material/mu_s=0"
 ngf_bad mu_s-one "Material/mu_s" --set "Material/mu_s=1"
 ngf_bad mu_s-above-one "mu_s" --set "Material/mu_s=1.5"
 ngf_bad fluidity-boundary-missing "lid" --set "Fluidity boundary conditions/Dirichlet=lid: 0"
+# An empty item in a list of boundaries is a typo (it was passed over without a word).
+ngf_bad fluidity-list-empty-item "Fluidity boundary conditions/Neumann': = top: 0,, bottom: 0 has an empty item" \
+  --set "Fluidity boundary conditions/Neumann=top: 0,, bottom: 0"
 ngf_bad fluidity-neumann-missing "side" --set "Fluidity boundary conditions/Neumann=side: 1"
 ngf_bad fluidity-boundary-of-other-geometry "inner wall" --set "Fluidity boundary conditions/Dirichlet=inner wall: 0"
 check ngf-annulus-no-fd-reference 2 "Output/Reference" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" \

@@ -215,6 +215,10 @@ namespace granflow::dp
   Parameters::validate() const
   {
     const std::string &f = case_file;
+    for (const auto &[list, entry] : boundaries.velocity_conditions())
+      check_list_items(*list, f, std::string("Boundary conditions/") + entry);
+    check_list_items(boundaries.analytic_traction, f, "Boundary conditions/Analytic traction");
+    check_list_items(boundaries.external_pressure, f, "Boundary conditions/External pressure");
     if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::interior_point &&
         !(rheology.mu > 0. && rheology.Bi == 0.))
       throw InputError(f, "Solver/Method",
