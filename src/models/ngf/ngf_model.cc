@@ -6,6 +6,7 @@
 #include "fem/mapping_without_cell_similarity.h"
 #include "models/ngf/ngf_element.h"
 #include "postprocess/nonlocal_1d.h"
+#include "solvers/newton.h"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/work_stream.h>
@@ -52,6 +53,17 @@ namespace granflow::ngf
       /// iterate of an attempt)
       double dU_u = std::numeric_limits<double>::quiet_NaN(), dU_g = dU_u;
     };
+
+    solvers::NewtonOptions
+    newton_options(const SolverParameters &s, Logger &log)
+    {
+      solvers::NewtonOptions o;
+      o.tolerance           = s.tolerance;
+      o.max_iterations      = s.max_iterations;
+      o.reuse_factorization = s.reuse_factorization;
+      o.log                 = &log.table();
+      return o;
+    }
 
     /// The remedy the local model's warnings give. In the rate-independent regime its flow
     /// collapses into the first element at every resolution (Henann & Kamrin 2016, Fig. 7b; mu(I)
@@ -122,6 +134,8 @@ namespace granflow::ngf
       /// Assembles r (constrained rows zeroed) and, if asked, J.
       ResidualNorms
       assemble(double dt, bool with_jacobian);
+      class Increment;
+      /// One increment's Newton iterations (solvers::NewtonSolver); false: not converged.
       bool
       newton(double dt, unsigned int increment, unsigned int &iterations);
 
@@ -287,7 +301,7 @@ namespace granflow::ngf
       // out; (23) has no time derivative).
       double                                        boundary_fluidity_supply = 0.;
       SparseDirectUMFPACK       factorization; // of the last Jacobian
-      bool                      factorization_valid = false;
+      solvers::NewtonSolver<Vector<double>>         newton_solver;
       std::vector<Point<dim>>   dof_point; // reference position of each dof
       std::optional<postprocess::Nonlocal1dProfile> reference; // Output/Reference
     };
@@ -307,6 +321,7 @@ namespace granflow::ngf
                   prm.material.nonlocal, prm.solver.fluidity == "local")
         , fe(FE_Q<dim>(1), 4)
         , dof_handler(tria)
+        , newton_solver(newton_options(prm.solver, log))
     {
       // names were checked against the geometry by Parameters::validate()
       for (const auto &[name, value] : prm.fluidity_dirichlet())
@@ -743,110 +758,94 @@ namespace granflow::ngf
       return n;
     }
 
+    /// The coupled residual (34) of one increment as solvers::NewtonSolver sees it: the fields
+    /// are the displacement-type unknowns and the fluidity, normalised as R_u and R_g.
+    template <int dim> class Problem<dim>::Increment : public solvers::NewtonProblem<Vector<double>>
+    {
+    public:
+      Increment(Problem<dim> &p, const double dt)
+          : p(p)
+          , dt(dt)
+      {
+      }
+
+      Vector<double> &
+      iterate() override
+      {
+        return p.U;
+      }
+
+      solvers::FieldResiduals
+      residual(const bool with_jacobian) override
+      {
+        const ResidualNorms n = p.assemble(dt, with_jacobian);
+        return {{n.u, n.g}, {n.u_scale, n.g_scale}};
+      }
+
+      bool
+      correction(Vector<double> &dU, const bool factorize) override
+      {
+        const auto start = std::chrono::steady_clock::now();
+        try
+          {
+            if (factorize)
+              p.factorization.initialize(p.jacobian);
+            dU = p.residual;
+            p.factorization.solve(dU);
+          }
+        catch (const dealii::SparseDirectUMFPACK::ExcUMFPACKError &)
+          {
+            return false;
+          }
+        p.solve_seconds +=
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        dU *= -1.;
+        p.newton_constraints.distribute(dU);
+        return true;
+      }
+
+      std::vector<solvers::CorrectionSize>
+      correction_sizes(const Vector<double> &dU) const override
+      {
+        std::vector<solvers::CorrectionSize> size(2, {0., 0.}); // displacement-type, fluidity
+        for (types::global_dof_index i = 0; i < dU.size(); ++i)
+          {
+            auto &s     = size[p.dof_component[i] == 3 ? 1 : 0];
+            s.change    = std::max(s.change, std::abs(dU[i]));
+            s.magnitude = std::max(s.magnitude, std::abs(p.U[i]));
+          }
+        return size;
+      }
+
+      /// The fluidity is non-negative (Henann Section 2): iterates are projected onto g >= 0, so
+      /// that an overshoot below zero does not switch the flow rule off (max(g, 0) in the update).
+      void
+      make_admissible(Vector<double> &U) override
+      {
+        for (types::global_dof_index i = 0; i < U.size(); ++i)
+          if (p.dof_component[i] == 3 && U[i] < 0.)
+            U[i] = 0.;
+      }
+
+    private:
+      Problem<dim> &p;
+      const double  dt;
+    };
+
     template <int dim>
     bool
     Problem<dim>::newton(const double dt, const unsigned int increment, unsigned int &iterations)
     {
-      Vector<double> dU(U.size()), U_start(U.size());
-      ResidualNorms  n;
-      bool           have_residual = false; // n and `residual` belong to the current U
-      for (iterations = 0;; ++iterations)
+      Increment                  step(*this, dt);
+      const solvers::NewtonStats stats = newton_solver.solve(step, increment);
+      for (unsigned int k = 0; k < stats.history.size(); ++k)
         {
-          const bool fresh = !prm.solver.reuse_factorization || !factorization_valid;
-          if (!have_residual || fresh)
-            n = assemble(dt, fresh);
-          have_residual    = false;
-          const double R_u = n.R_u(n.u_scale), R_g = n.R_g(n.g_scale);
-          newton_log.push_back({increment, iterations, R_u, R_g});
-          log.table() << std::setw(6) << increment << std::setw(6) << iterations << std::scientific
-                      << std::setprecision(3) << std::setw(12) << R_u << std::setw(12) << R_g
-                      << std::defaultfloat << (fresh ? "" : "  (previous factorization)") << '\n';
-          if (!std::isfinite(R_u) || !std::isfinite(R_g))
-            return false;
-          if (R_u <= prm.solver.tolerance && R_g <= prm.solver.tolerance)
-            return true;
-          if (iterations == prm.solver.max_iterations)
-            return false;
-          try
-            {
-              const auto start = std::chrono::steady_clock::now();
-              if (fresh)
-                {
-                  factorization.initialize(jacobian);
-                  factorization_valid = true;
-                }
-              dU = residual;
-              factorization.solve(dU);
-              solve_seconds +=
-                  std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            }
-          catch (const dealii::SparseDirectUMFPACK::ExcUMFPACKError &)
-            {
-              factorization_valid = false;
-              log.table() << std::setw(36) << "singular Jacobian (UMFPACK)" << '\n';
-              return false; // the increment is cut
-            }
-          dU *= -1.;
-          newton_constraints.distribute(dU);
-          // At the residual's round-off floor the full Newton correction is what tells convergence:
-          // below 1e-10 of each field it changes nothing a user could see.
-          double du = 0., u_max = 0., dg = 0., g_max = 0.;
-          for (types::global_dof_index i = 0; i < U.size(); ++i)
-            if (dof_component[i] == 3)
-              dg = std::max(dg, std::abs(dU[i])), g_max = std::max(g_max, std::abs(U[i]));
-            else
-              du = std::max(du, std::abs(dU[i])), u_max = std::max(u_max, std::abs(U[i]));
-          newton_log.back().dU_u = u_max > 0. ? du / u_max : du;
-          newton_log.back().dU_g = g_max > 0. ? dg / g_max : dg;
-          log.table() << std::setw(36) << "correction" << std::scientific << std::setprecision(3)
-                      << std::setw(12) << newton_log.back().dU_u << std::setw(12)
-                      << newton_log.back().dU_g << std::defaultfloat << '\n';
-          if (fresh && du <= 1e-10 * u_max && dg <= 1e-10 * g_max)
-            {
-              U += dU;
-              return true;
-            }
-          // Backtracking on max(R_u, R_g) with this iterate's scales: the full step is taken
-          // whenever it reduces the residual (always, near the solution), so quadratic convergence
-          // is kept; it is halved where the fluidity problem is far from linear (onset of flow,
-          // free surface). A step with a previous factorization must contract the residual four
-          // times, or the Jacobian is factorized afresh.
-          U_start             = U;
-          const double merit0 = std::max(R_u, R_g);
-          double       alpha  = 1.;
-          for (unsigned int k = 0;; ++k, alpha *= 0.5)
-            {
-              U = U_start;
-              U.add(alpha, dU);
-              // The fluidity is non-negative (Henann Section 2): iterates are projected onto g >=
-              // 0, so that an overshoot below zero does not switch the flow rule off (max(g, 0) in
-              // the update).
-              for (types::global_dof_index i = 0; i < U.size(); ++i)
-                if (dof_component[i] == 3 && U[i] < 0.)
-                  U[i] = 0.;
-              if (k == 6)
-                break; // accept a short step (only a fresh Jacobian's step gets here: a
-                       // reused one is refactorised at k = 0); with Reuse factorization the
-                       // next step reuses this factorisation, and is refactorised if it
-                       // does not contract the residual four times
-              const ResidualNorms m     = assemble(dt, false);
-              const double        merit = std::max(m.R_u(n.u_scale), m.R_g(n.g_scale));
-              if (!fresh && !(merit <= 0.25 * merit0))
-                {
-                  U                   = U_start;
-                  factorization_valid = false;
-                  break;
-                }
-              if (std::isfinite(merit) && merit <= (1. - 1e-4 * alpha) * merit0)
-                {
-                  n             = m;
-                  have_residual = true;
-                  break;
-                }
-            }
-          if (alpha < 1.)
-            log.table() << std::setw(36) << "line search step" << std::setw(12) << alpha << '\n';
+          const auto &it = stats.history[k];
+          newton_log.push_back(
+              {increment, k, it.residual[0], it.residual[1], it.correction[0], it.correction[1]});
         }
+      iterations = stats.iterations;
+      return stats.converged;
     }
 
     template <int dim>
