@@ -133,42 +133,59 @@ namespace granflow::geometry
       return (std::uint64_t(a) << 32) | b;
     }
 
-    /// Fills `mesh` from the mesh of the current Gmsh model. Problems are reported as
-    /// InputError(source, entry, "<mesh_name> <problem>").
-    void
-    build_mesh(Mesh              &mesh,
-               const std::string &source,
-               const char        *entry,
-               const std::string &mesh_name)
+    /// A problem with the mesh being read: InputError(source, entry, "<mesh_name> <problem>").
+    struct MeshError
     {
-      const auto error = [&](const std::string &problem) {
-        return InputError(source, entry, mesh_name + " " + problem);
-      };
+      const std::string &source;
+      const char        *entry;
+      const std::string &mesh_name;
 
+      InputError
+      operator()(const std::string &problem) const
       {
-        std::vector<int>                      types;
-        std::vector<std::vector<std::size_t>> element_tags, node_tags;
-        gmsh::model::mesh::getElements(types, element_tags, node_tags, 3, -1);
-        if (!types.empty())
-          throw error("has 3D elements: expected a 2D mesh of triangles");
-        gmsh::model::mesh::getElements(types, element_tags, node_tags, 2, -1);
-        if (types.empty())
-          throw error("contains no triangles (when a mesh has physical groups, Gmsh saves only "
-                      "their elements: put the domain in a Physical Surface)");
-        for (const int type : types)
-          if (type != gmsh_triangle)
-            {
-              std::string         name;
-              int                 element_dim, order, n_nodes, n_primary_nodes;
-              std::vector<double> local_coordinates;
-              gmsh::model::mesh::getElementProperties(
-                type, name, element_dim, order, n_nodes, local_coordinates, n_primary_nodes);
-              throw error("contains 2D elements of type '" + name +
-                          "': expected only 3-node triangles (Mesh.ElementOrder = 1, no "
-                          "recombination)");
-            }
+        return InputError(source, entry, mesh_name + " " + problem);
       }
+    };
 
+    /// The current Gmsh model has 3-node triangles and no 3D elements.
+    void
+    check_element_types(const MeshError &error)
+    {
+      std::vector<int>                      types;
+      std::vector<std::vector<std::size_t>> element_tags, node_tags;
+      gmsh::model::mesh::getElements(types, element_tags, node_tags, 3, -1);
+      if (!types.empty())
+        throw error("has 3D elements: expected a 2D mesh of triangles");
+      gmsh::model::mesh::getElements(types, element_tags, node_tags, 2, -1);
+      if (types.empty())
+        throw error("contains no triangles (when a mesh has physical groups, Gmsh saves only "
+                    "their elements: put the domain in a Physical Surface)");
+      for (const int type : types)
+        if (type != gmsh_triangle)
+          {
+            std::string         name;
+            int                 element_dim, order, n_nodes, n_primary_nodes;
+            std::vector<double> local_coordinates;
+            gmsh::model::mesh::getElementProperties(type, name, element_dim, order, n_nodes,
+                                                    local_coordinates, n_primary_nodes);
+            throw error("contains 2D elements of type '" + name +
+                        "': expected only 3-node triangles (Mesh.ElementOrder = 1, no "
+                        "recombination)");
+          }
+    }
+
+    /// The triangles of the current Gmsh model as deal.II cells on their own vertices.
+    struct Triangles
+    {
+      std::vector<dealii::Point<2>>                 vertices;
+      std::vector<double>                           z;              // of each vertex
+      std::unordered_map<std::size_t, unsigned int> vertex_of_node; // Gmsh node tag -> vertex
+      std::vector<dealii::CellData<2>>              cells;
+    };
+
+    Triangles
+    read_triangles(const MeshError &error)
+    {
       std::vector<std::size_t> all_node_tags;
       std::vector<double>      all_coordinates, parametric;
       gmsh::model::mesh::getNodes(all_node_tags, all_coordinates, parametric, -1, -1, false, false);
@@ -178,16 +195,14 @@ namespace granflow::geometry
 
       // Only the nodes of triangles become vertices: Gmsh also stores geometry points and nodes of
       // curves that are not part of the domain.
-      std::vector<dealii::Point<2>>                 vertices;
-      std::vector<double>                           z;
-      std::unordered_map<std::size_t, unsigned int> vertex_of_node;
-      const auto                                    add_vertex = [&](std::size_t node) {
-        const auto [it, inserted] = vertex_of_node.emplace(node, vertices.size());
+      Triangles  mesh;
+      const auto add_vertex = [&](std::size_t node) {
+        const auto [it, inserted] = mesh.vertex_of_node.emplace(node, mesh.vertices.size());
         if (inserted)
           {
             const double *x = &all_coordinates[3 * node_position.at(node)];
-            vertices.emplace_back(x[0], x[1]);
-            z.push_back(x[2]);
+            mesh.vertices.emplace_back(x[0], x[1]);
+            mesh.z.push_back(x[2]);
           }
         return it->second;
       };
@@ -199,8 +214,7 @@ namespace granflow::geometry
       // MSH 2 writes a triangle once for every physical surface it belongs to (a sub-region tagged
       // for post-processing, say): the copies would be cells of their own, and the faces between
       // them would no longer be boundary. A triangle is kept once, whatever its groups.
-      std::vector<dealii::CellData<2>> cells;
-      cells.reserve(triangle_tags.size());
+      mesh.cells.reserve(triangle_tags.size());
       std::set<std::array<std::size_t, 3>> seen;
       for (std::size_t t = 0; t < triangle_tags.size(); ++t)
         {
@@ -212,28 +226,37 @@ namespace granflow::geometry
           dealii::CellData<2> cell(3);
           for (unsigned int v = 0; v < 3; ++v)
             cell.vertices[v] = add_vertex(triangle_nodes[3 * t + v]);
-          cells.push_back(std::move(cell));
+          mesh.cells.push_back(std::move(cell));
         }
+      return mesh;
+    }
 
-      {
-        double extent = 0;
-        for (const auto &p : vertices)
-          extent =
+    /// All vertices in one plane z = const.
+    void
+    check_planar(const Triangles &mesh, const MeshError &error)
+    {
+      const auto &vertices = mesh.vertices;
+      double      extent   = 0;
+      for (const auto &p : vertices)
+        extent =
             std::max({extent, std::abs(p[0] - vertices[0][0]), std::abs(p[1] - vertices[0][1])});
-        for (std::size_t v = 0; v < z.size(); ++v)
-          if (std::abs(z[v] - z[0]) > 1e-10 * extent)
-            throw error("does not lie in a plane z = const: node at (x, y) = " + str(vertices[v]) +
-                        " has z = " + str(z[v]) + ", the first node z = " + str(z[0]) +
-                        " (expected a 2D mesh in the x-y plane)");
-      }
+      for (std::size_t v = 0; v < mesh.z.size(); ++v)
+        if (std::abs(mesh.z[v] - mesh.z[0]) > 1e-10 * extent)
+          throw error("does not lie in a plane z = const: node at (x, y) = " + str(vertices[v]) +
+                      " has z = " + str(mesh.z[v]) + ", the first node z = " + str(mesh.z[0]) +
+                      " (expected a 2D mesh in the x-y plane)");
+    }
 
-      // Gmsh orients triangles like the curve loop of their surface; deal.II needs them
-      // counterclockwise, or the mapping has a negative Jacobian.
-      for (auto &cell : cells)
+    /// Gmsh orients triangles like the curve loop of their surface; deal.II needs them
+    /// counterclockwise, or the mapping has a negative Jacobian. A degenerate triangle is refused.
+    void
+    orient_counterclockwise(Triangles &mesh, const MeshError &error)
+    {
+      for (auto &cell : mesh.cells)
         {
-          const auto  &a     = vertices[cell.vertices[0]];
-          const auto  &b     = vertices[cell.vertices[1]];
-          const auto  &c     = vertices[cell.vertices[2]];
+          const auto  &a     = mesh.vertices[cell.vertices[0]];
+          const auto  &b     = mesh.vertices[cell.vertices[1]];
+          const auto  &c     = mesh.vertices[cell.vertices[2]];
           const double cross = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
           const double longest =
             std::max({a.distance_square(b), b.distance_square(c), c.distance_square(a)});
@@ -242,117 +265,121 @@ namespace granflow::geometry
           if (cross < 0)
             std::swap(cell.vertices[1], cell.vertices[2]);
         }
+    }
 
-      // Edges of named physical curves -> physical tag. An edge on two named curves would get two
-      // boundary conditions; it is an error only if it is on the boundary, hence `conflict`.
-      struct NamedEdge
+    /// Edges of named physical curves -> physical tag. An edge on two named curves would get two
+    /// boundary conditions; it is an error only if it is on the boundary, hence `conflict`.
+    struct NamedEdges
+    {
+      struct Edge
       {
         int tag;
         int conflict = 0;
       };
-      std::unordered_map<std::uint64_t, NamedEdge> named_edges;
-      std::map<int, std::string>                   name_of_tag;
-      {
-        gmsh::vectorpair groups;
-        gmsh::model::getPhysicalGroups(groups, 1);
-        std::map<std::string, int> tag_of_name;
-        for (const auto &[dim, tag] : groups)
-          {
-            std::string name;
-            gmsh::model::getPhysicalName(dim, tag, name);
-            if (name.empty())
-              continue;
-            if (!tag_of_name.emplace(name, tag).second)
-              throw error("has two physical curves named '" + name + "' (tags " +
-                          std::to_string(tag_of_name[name]) + " and " + std::to_string(tag) + ")");
-            name_of_tag[tag] = name;
+      std::unordered_map<std::uint64_t, Edge> edges; // by edge_key() of the two vertices
+      std::map<int, std::string>              name_of_tag;
+    };
 
-            std::vector<int> curves;
-            gmsh::model::getEntitiesForPhysicalGroup(dim, tag, curves);
-            for (const int curve : curves)
-              {
-                std::vector<int>                      types;
-                std::vector<std::vector<std::size_t>> element_tags, node_tags;
-                gmsh::model::mesh::getElements(types, element_tags, node_tags, 1, curve);
-                for (std::size_t i = 0; i < types.size(); ++i)
-                  {
-                    if (types[i] != gmsh_line)
-                      throw error("has curve elements of Gmsh type " + std::to_string(types[i]) +
-                                  " in physical curve '" + name + "': expected 2-node lines");
-                    for (std::size_t e = 0; e < element_tags[i].size(); ++e)
-                      {
-                        const auto a = vertex_of_node.find(node_tags[i][2 * e]);
-                        const auto b = vertex_of_node.find(node_tags[i][2 * e + 1]);
-                        // A curve off the triangulated surface bounds nothing.
-                        if (a == vertex_of_node.end() || b == vertex_of_node.end())
-                          continue;
-                        const auto [it, inserted] =
-                          named_edges.emplace(edge_key(a->second, b->second), NamedEdge{tag});
-                        if (!inserted && it->second.tag != tag)
-                          it->second.conflict = tag;
-                      }
-                  }
-              }
-          }
-      }
-
-      mesh.triangulation.clear();
-      mesh.boundary_ids.clear();
-      try
+    NamedEdges
+    read_named_edges(const Triangles &mesh, const MeshError &error)
+    {
+      NamedEdges       named;
+      gmsh::vectorpair groups;
+      gmsh::model::getPhysicalGroups(groups, 1);
+      std::map<std::string, int> tag_of_name;
+      for (const auto &[dim, tag] : groups)
         {
-          mesh.triangulation.create_triangulation(vertices, cells, dealii::SubCellData());
+          std::string name;
+          gmsh::model::getPhysicalName(dim, tag, name);
+          if (name.empty())
+            continue;
+          if (!tag_of_name.emplace(name, tag).second)
+            throw error("has two physical curves named '" + name + "' (tags " +
+                        std::to_string(tag_of_name[name]) + " and " + std::to_string(tag) + ")");
+          named.name_of_tag[tag] = name;
+
+          std::vector<int> curves;
+          gmsh::model::getEntitiesForPhysicalGroup(dim, tag, curves);
+          for (const int curve : curves)
+            {
+              std::vector<int>                      types;
+              std::vector<std::vector<std::size_t>> element_tags, node_tags;
+              gmsh::model::mesh::getElements(types, element_tags, node_tags, 1, curve);
+              for (std::size_t i = 0; i < types.size(); ++i)
+                {
+                  if (types[i] != gmsh_line)
+                    throw error("has curve elements of Gmsh type " + std::to_string(types[i]) +
+                                " in physical curve '" + name + "': expected 2-node lines");
+                  for (std::size_t e = 0; e < element_tags[i].size(); ++e)
+                    {
+                      const auto a = mesh.vertex_of_node.find(node_tags[i][2 * e]);
+                      const auto b = mesh.vertex_of_node.find(node_tags[i][2 * e + 1]);
+                      // A curve off the triangulated surface bounds nothing.
+                      if (a == mesh.vertex_of_node.end() || b == mesh.vertex_of_node.end())
+                        continue;
+                      const auto [it, inserted] = named.edges.emplace(
+                          edge_key(a->second, b->second), NamedEdges::Edge{tag});
+                      if (!inserted && it->second.tag != tag)
+                        it->second.conflict = tag;
+                    }
+                }
+            }
         }
-      catch (const dealii::ExceptionBase &e)
+      return named;
+    }
+
+    /// Two surfaces meshed apart (no shared nodes along their interface) would be two bodies
+    /// joined at a few nodes, with a traction-free crack between them: boundary edges that
+    /// overlap are refused. Edges are binned on a grid as fine as the longest one, so each is
+    /// compared with its neighbours only.
+    void
+    check_conforming(const dealii::Triangulation<2> &triangulation, const MeshError &error)
+    {
+      std::vector<std::array<dealii::Point<2>, 2>> edges;
+      double                                       longest = 0.;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        for (const auto &face : cell->face_iterators())
+          if (face->at_boundary())
+            {
+              edges.push_back({{face->vertex(0), face->vertex(1)}});
+              longest = std::max(longest, face->vertex(0).distance(face->vertex(1)));
+            }
+      const auto bin = [&](const dealii::Point<2> &p) {
+        return std::pair<long, long>(static_cast<long>(std::floor(p[0] / longest)),
+                                     static_cast<long>(std::floor(p[1] / longest)));
+      };
+      std::map<std::pair<long, long>, std::vector<std::size_t>> bins;
+      for (std::size_t e = 0; e < edges.size(); ++e)
         {
-          throw error("is not a valid triangulation: " + std::string(e.what()));
+          const auto [x0, y0] = bin(edges[e][0]);
+          const auto [x1, y1] = bin(edges[e][1]);
+          for (long x = std::min(x0, x1); x <= std::max(x0, x1); ++x)
+            for (long y = std::min(y0, y1); y <= std::max(y0, y1); ++y)
+              bins[{x, y}].push_back(e);
         }
+      for (std::size_t e = 0; e < edges.size(); ++e)
+        {
+          const dealii::Point<2> m = 0.5 * (edges[e][0] + edges[e][1]);
+          for (const std::size_t f : bins[bin(m)])
+            {
+              if (f == e)
+                continue;
+              const dealii::Tensor<1, 2> t = edges[f][1] - edges[f][0], r = m - edges[f][0];
+              const double               s        = (r * t) / (t * t);
+              const double               distance = std::abs(r[0] * t[1] - r[1] * t[0]) / t.norm();
+              if (s > 1e-9 && s < 1. - 1e-9 && distance < 1e-9 * longest)
+                throw error("has a non-conforming interface at " + str(m) +
+                            ": two boundary edges overlap there (the surfaces on either side "
+                            "do not share their nodes): expected one conforming mesh (in Gmsh, "
+                            "Coherence or BooleanFragments before meshing)");
+            }
+        }
+    }
 
-      // Two surfaces meshed apart (no shared nodes along their interface) would be two bodies
-      // joined at a few nodes, with a traction-free crack between them: boundary edges that
-      // overlap are refused. Edges are binned on a grid as fine as the longest one, so each is
-      // compared with its neighbours only.
-      {
-        std::vector<std::array<dealii::Point<2>, 2>> edges;
-        double                                       longest = 0.;
-        for (const auto &cell : mesh.triangulation.active_cell_iterators())
-          for (const auto &face : cell->face_iterators())
-            if (face->at_boundary())
-              {
-                edges.push_back({{face->vertex(0), face->vertex(1)}});
-                longest = std::max(longest, face->vertex(0).distance(face->vertex(1)));
-              }
-        const auto bin = [&](const dealii::Point<2> &p) {
-          return std::pair<long, long>(static_cast<long>(std::floor(p[0] / longest)),
-                                       static_cast<long>(std::floor(p[1] / longest)));
-        };
-        std::map<std::pair<long, long>, std::vector<std::size_t>> bins;
-        for (std::size_t e = 0; e < edges.size(); ++e)
-          {
-            const auto [x0, y0] = bin(edges[e][0]);
-            const auto [x1, y1] = bin(edges[e][1]);
-            for (long x = std::min(x0, x1); x <= std::max(x0, x1); ++x)
-              for (long y = std::min(y0, y1); y <= std::max(y0, y1); ++y)
-                bins[{x, y}].push_back(e);
-          }
-        for (std::size_t e = 0; e < edges.size(); ++e)
-          {
-            const dealii::Point<2> m = 0.5 * (edges[e][0] + edges[e][1]);
-            for (const std::size_t f : bins[bin(m)])
-              {
-                if (f == e)
-                  continue;
-                const dealii::Tensor<1, 2> t = edges[f][1] - edges[f][0], r = m - edges[f][0];
-                const double               s = (r * t) / (t * t);
-                const double distance        = std::abs(r[0] * t[1] - r[1] * t[0]) / t.norm();
-                if (s > 1e-9 && s < 1. - 1e-9 && distance < 1e-9 * longest)
-                  throw error("has a non-conforming interface at " + str(m) +
-                              ": two boundary edges overlap there (the surfaces on either side "
-                              "do not share their nodes): expected one conforming mesh (in Gmsh, "
-                              "Coherence or BooleanFragments before meshing)");
-              }
-          }
-      }
-
+    /// Each boundary face gets the tag of its named curve; every boundary face needs one.
+    void
+    assign_boundary_ids(Mesh &mesh, NamedEdges &named, const MeshError &error)
+    {
       unsigned int     n_unnamed = 0;
       dealii::Point<2> first_unnamed;
       for (const auto &cell : mesh.triangulation.active_cell_iterators())
@@ -361,8 +388,8 @@ namespace granflow::geometry
             if (!face->at_boundary())
               continue;
             const auto it =
-              named_edges.find(edge_key(face->vertex_index(0), face->vertex_index(1)));
-            if (it == named_edges.end())
+                named.edges.find(edge_key(face->vertex_index(0), face->vertex_index(1)));
+            if (it == named.edges.end())
               {
                 if (n_unnamed++ == 0)
                   first_unnamed = face->center();
@@ -370,15 +397,44 @@ namespace granflow::geometry
               }
             if (it->second.conflict != 0)
               throw error("has a boundary edge at " + str(face->center()) +
-                          " on two physical curves, '" + name_of_tag[it->second.tag] + "' and '" +
-                          name_of_tag[it->second.conflict] + "': expected exactly one");
+                          " on two physical curves, '" + named.name_of_tag[it->second.tag] +
+                          "' and '" + named.name_of_tag[it->second.conflict] +
+                          "': expected exactly one");
             face->set_boundary_id(it->second.tag);
-            mesh.boundary_ids[name_of_tag[it->second.tag]] = it->second.tag;
+            mesh.boundary_ids[named.name_of_tag[it->second.tag]] = it->second.tag;
           }
       if (n_unnamed > 0)
         throw error("has " + std::to_string(n_unnamed) + " boundary edges, the first at " +
                     str(first_unnamed) +
                     ", on no named physical curve: every boundary needs a named Physical Curve");
+    }
+
+    /// Fills `mesh` from the mesh of the current Gmsh model. Problems are reported as
+    /// InputError(source, entry, "<mesh_name> <problem>").
+    void
+    build_mesh(Mesh &mesh, const std::string &source, const char *entry,
+               const std::string &mesh_name)
+    {
+      const MeshError error{source, entry, mesh_name};
+      check_element_types(error);
+      Triangles triangles = read_triangles(error);
+      check_planar(triangles, error);
+      orient_counterclockwise(triangles, error);
+      NamedEdges named = read_named_edges(triangles, error);
+
+      mesh.triangulation.clear();
+      mesh.boundary_ids.clear();
+      try
+        {
+          mesh.triangulation.create_triangulation(triangles.vertices, triangles.cells,
+                                                  dealii::SubCellData());
+        }
+      catch (const dealii::ExceptionBase &e)
+        {
+          throw error("is not a valid triangulation: " + std::string(e.what()));
+        }
+      check_conforming(mesh.triangulation, error);
+      assign_boundary_ids(mesh, named, error);
     }
 
     /// Meshes the current Gmsh model, writes it to `msh_path` and fills `mesh` from it. The file is

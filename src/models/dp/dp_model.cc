@@ -97,8 +97,19 @@ namespace granflow::dp
     private:
       void
       make_mesh();
+      /// The dofs, the boundary conditions, the unknowns of the cone problem; checks the inputs
+      /// that need the mesh and notes what a user may not have meant.
       void
       setup();
+      /// Velocity conditions, loads and the boundaries Output names, each checked against the
+      /// mesh.
+      void
+      apply_boundary_conditions();
+      /// free_index, free_coefficient, reaction_dof and n_free from the constraints.
+      void
+      number_free_dofs();
+      void
+      note_unconditioned_and_unresolved_boundaries();
       std::string
       solver_failure(const solvers::ConeSolverStats &stats, bool interior_point) const;
       template <typename F>
@@ -144,9 +155,25 @@ namespace granflow::dp
       write_velocity_profile(nlohmann::json &S, const PointFields &pf);
       std::map<types::boundary_id, postprocess::BoundaryFlux>
       summarise_fluxes(nlohmann::json &S) const;
+      /// Output/Inflow boundary's mean speed U_infinity (positive into the domain), its mean u_x,
+      /// and whether the material leaves through it instead (then Fr and C_D are null).
+      struct Inflow
+      {
+        double U_inf = 0., u_x = 0., jammed_speed = 0.;
+        bool   reversed = false;
+      };
+      Inflow
+      summarise_inflow(nlohmann::json                                                &S,
+                       const std::map<types::boundary_id, postprocess::BoundaryFlux> &flux_of);
+      /// The fraction of the constraint points of the cells on boundary `id` that are rigid.
+      double
+      rigid_fraction_next_to(types::boundary_id id, const std::vector<double> &zone) const;
       void
       summarise_drag(nlohmann::json &S, const PointFields &pf,
                      const std::map<types::boundary_id, postprocess::BoundaryFlux> &flux_of);
+      /// The cylinder's wake and the upstream pressure peak, the flow running along `along` e_x.
+      void
+      summarise_cylinder_wake(nlohmann::json &S, const PointFields &pf, double along) const;
       void
       write_vtu();
       Tensor<1, dim>
@@ -779,7 +806,49 @@ namespace granflow::dp
       dof_u.distribute_dofs(fe_u);
       dof_s.reinit(mesh.triangulation);
       dof_s.distribute_dofs(fe_s);
+      apply_boundary_conditions();
+      number_free_dofs();
+      n_points = p1d ? mesh.triangulation.n_active_cells() * 3 : dof_s.n_dofs();
+      u.reinit(dof_u.n_dofs());
+      // The profile line must cross the domain: checked now, not after the solve.
+      if (postprocess::sample_line(
+              mapping, dof_u, u,
+              parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start"),
+              parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end"),
+              prm.output.profile_points)
+              .points.size() < 2)
+        throw InputError(prm.case_file, "Output/Profile start",
+                         "'" + prm.output.profile_start + "' to Output/Profile end '" +
+                             prm.output.profile_end + "': fewer than 2 of the line's " +
+                             std::to_string(prm.output.profile_points) +
+                             " points lie in the mesh: expected a line across the domain");
 
+      std::ostringstream s;
+      s << "Mesh: " << mesh.triangulation.n_active_cells() << " triangles, "
+        << mesh.triangulation.n_vertices() << " vertices; velocity P2: " << dof_u.n_dofs()
+        << " dofs (" << n_free << " free); stress " << prm.solver.stress_element << ": " << n_points
+        << " constraint points\n";
+      log.print(s.str());
+
+      note_unconditioned_and_unresolved_boundaries();
+      prm.require_reference_boundaries();
+      // Only the direction of gravity enters (23): the body force is rho g, in units of rho g.
+      if (const Point<dim> g =
+              parse_point(prm.gravity_direction, prm.case_file, "Gravity direction");
+          std::abs(g.norm() - 1.) > 1e-12)
+        {
+          std::ostringstream   note;
+          const Tensor<1, dim> e = prm.e_g();
+          note << "dp: note: Gravity direction (" << g[0] << ", " << g[1] << ") has length "
+               << g.norm() << "; only its direction (" << e[0] << ", " << e[1]
+               << ") is used: the body force is rho g, the unit of (23)\n";
+          log.print(note.str());
+        }
+    }
+
+    void
+    Problem::apply_boundary_conditions()
+    {
       const auto &bc = prm.boundaries;
       // A name in two velocity conditions is a contradiction or a typo.
       std::map<types::boundary_id, const char *>                      condition_of;
@@ -845,7 +914,11 @@ namespace granflow::dp
         }
       if (!prm.output.inflow_boundary.empty())
         mesh.id(prm.output.inflow_boundary, prm.case_file, "Output/Inflow boundary");
+    }
 
+    void
+    Problem::number_free_dofs()
+    {
       free_index.assign(dof_u.n_dofs(), -1);
       free_coefficient.assign(dof_u.n_dofs(), 1.);
       reaction_dof.assign(dof_u.n_dofs(), false);
@@ -870,28 +943,11 @@ namespace granflow::dp
           free_index[i] = free_index[p->second];
         else
           free_index[i] = static_cast<int>(n_free++);
-      n_points = p1d ? mesh.triangulation.n_active_cells() * 3 : dof_s.n_dofs();
-      u.reinit(dof_u.n_dofs());
-      // The profile line must cross the domain: checked now, not after the solve.
-      if (postprocess::sample_line(
-              mapping, dof_u, u,
-              parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start"),
-              parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end"),
-              prm.output.profile_points)
-              .points.size() < 2)
-        throw InputError(prm.case_file, "Output/Profile start",
-                         "'" + prm.output.profile_start + "' to Output/Profile end '" +
-                             prm.output.profile_end + "': fewer than 2 of the line's " +
-                             std::to_string(prm.output.profile_points) +
-                             " points lie in the mesh: expected a line across the domain");
+    }
 
-      std::ostringstream s;
-      s << "Mesh: " << mesh.triangulation.n_active_cells() << " triangles, "
-        << mesh.triangulation.n_vertices() << " vertices; velocity P2: " << dof_u.n_dofs()
-        << " dofs (" << n_free << " free); stress " << prm.solver.stress_element << ": " << n_points
-        << " constraint points\n";
-      log.print(s.str());
-
+    void
+    Problem::note_unconditioned_and_unresolved_boundaries()
+    {
       // What a user may not have meant: a named boundary in no condition is traction-free (the
       // material leaves through a forgotten floor), and a boundary of one mesh edge is not
       // resolved (a silo outlet narrower than the mesh size jams on the mesh, not on the
@@ -924,49 +980,6 @@ namespace granflow::dp
       if (!free.empty())
         log.print("dp: note: no condition on " + free +
                   ": traction-free (the material may leave or enter there)\n");
-      // The Bingham reference (6.1.1) is (23)-(24) with u = 0 on the walls y = +-1 and the ends
-      // free along the channel, under one pressure or none (which does not change a flow at mu =
-      // 0); with other conditions its max_rel_error would be a silent wrong answer.
-      if (prm.output.reference == "bingham poiseuille" && prm.geometry.shape == "channel")
-        {
-          const auto &bc    = prm.boundaries;
-          const auto  walls = split_list(bc.no_slip);
-          std::set<std::string> free_ends;
-          for (const auto *list : {&bc.zero_y_velocity, &bc.zero_tangential_velocity})
-            for (const auto &name : split_list(*list))
-              free_ends.insert(name);
-          if (std::set<std::string>(walls.begin(), walls.end()) !=
-                  std::set<std::string>{"bottom", "top"} ||
-              free_ends != std::set<std::string>{"inlet", "outlet"} ||
-              !split_list(bc.zero_x_velocity).empty() ||
-              !split_list(bc.zero_normal_velocity).empty())
-            throw InputError(prm.case_file, "Output/Reference",
-                             "'bingham poiseuille' solves the channel with no-slip walls and free "
-                             "ends (6.1.1): needs Boundary conditions/No-slip = bottom, top, and "
-                             "the ends (inlet, outlet) free along the channel (Zero y-velocity or "
-                             "Zero tangential velocity)");
-          std::map<std::string, double> pressure{{"inlet", 0.}, {"outlet", 0.}};
-          for (const auto &[name, value] : parse_named_values(
-                   bc.external_pressure, prm.case_file, "Boundary conditions/External pressure"))
-            pressure[name] = value;
-          if (pressure["inlet"] != pressure["outlet"])
-            throw InputError(prm.case_file, "Output/Reference",
-                             "'bingham poiseuille' is driven by the body force alone: needs "
-                             "Boundary conditions/External pressure equal at inlet and outlet (a "
-                             "pressure difference drives another flow)");
-        }
-      // Only the direction of gravity enters (23): the body force is rho g, in units of rho g.
-      if (const Point<dim> g =
-              parse_point(prm.gravity_direction, prm.case_file, "Gravity direction");
-          std::abs(g.norm() - 1.) > 1e-12)
-        {
-          std::ostringstream note;
-          const Tensor<1, dim> e = prm.e_g();
-          note << "dp: note: Gravity direction (" << g[0] << ", " << g[1] << ") has length "
-               << g.norm() << "; only its direction (" << e[0] << ", " << e[1]
-               << ") is used: the body force is rho g, the unit of (23)\n";
-          log.print(note.str());
-        }
     }
 
     solvers::ConeSolverStats
@@ -1599,182 +1612,197 @@ namespace granflow::dp
 
     /// U_infinity, the force on Output/Drag boundary and, in the cylinder channel, the wake, the
     /// arch, Fr and C_D (Daviet 6.3).
+    Problem::Inflow
+    Problem::summarise_inflow(
+        nlohmann::json &S, const std::map<types::boundary_id, postprocess::BoundaryFlux> &flux_of)
+    {
+      Inflow result;
+      // Below jammed_speed the channel is jammed: 1e-5 Re sqrt(g L) (velocities scale with Re,
+      // (23)); at the sweep's Re = 100 that is 1e-3, as in scripts/cylinder_drag_sweep.sh (its
+      // jammed channels creep at the solver's accuracy in u, its slowest flowing one has 0.43).
+      result.jammed_speed = 1e-5 * prm.rheology.Re;
+      if (prm.output.inflow_boundary.empty())
+        return result;
+      const auto &inflow = flux_of.at(mesh.id(prm.output.inflow_boundary, prm.case_file));
+      result.U_inf       = -inflow.flux / inflow.length;
+      result.u_x         = inflow.mean_u_x;
+      S["U_infinity"]    = result.U_inf;
+      // Material leaving through the named inflow boundary (the flow runs the other way):
+      // U_infinity measured there is the outflow's, which the material's dilation makes
+      // larger than the inflow's (1.66 times in the mirrored cylinder channel), so Fr and C_D
+      // would be wrong with exit 0; they are null, and the boundary where it enters is named.
+      if (result.U_inf < -result.jammed_speed)
+        {
+          std::string entering;
+          double      least = 0.;
+          for (const auto &[name, id] : mesh.boundary_ids)
+            if (flux_of.at(id).flux < least)
+              least = flux_of.at(id).flux, entering = name;
+          std::ostringstream w;
+          w << std::setprecision(4) << "Output/Inflow boundary = '" << prm.output.inflow_boundary
+            << "': the material leaves through it (volume flux " << inflow.flux
+            << " out), so U_infinity there is an outflow's; Froude and drag_coefficient are "
+               "null"
+            << (entering.empty() ? std::string()
+                                 : "; the material enters through '" + entering +
+                                       "': set Output/Inflow boundary = " + entering);
+          report.warn(w.str());
+          result.reversed = true;
+        }
+      return result;
+    }
+
+    double
+    Problem::rigid_fraction_next_to(const types::boundary_id   id,
+                                    const std::vector<double> &zone) const
+    {
+      std::size_t                          touching = 0, rigid = 0;
+      std::vector<types::global_dof_index> sdofs(fe_s.n_dofs_per_cell());
+      for (const auto &cell : dof_s.active_cell_iterators())
+        {
+          bool on_boundary = false;
+          for (const unsigned int f : cell->face_indices())
+            on_boundary =
+                on_boundary || (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id);
+          if (!on_boundary)
+            continue;
+          cell->get_dof_indices(sdofs);
+          for (unsigned int k = 0; k < 3; ++k)
+            {
+              const std::size_t i = p1d ? cell->active_cell_index() * 3 + k : sdofs[k];
+              ++touching;
+              rigid += zone[i] == 0;
+            }
+        }
+      return double(rigid) / std::max<std::size_t>(touching, 1);
+    }
+
     void
     Problem::summarise_drag(nlohmann::json &S, const PointFields &pf,
                             const std::map<types::boundary_id, postprocess::BoundaryFlux> &flux_of)
     {
+      const Inflow inflow = summarise_inflow(S, flux_of);
+      if (prm.output.drag_boundary.empty())
+        return;
+      // The material's force on the boundary, int (lambda - 2/Re eta D^b(u)) n (23), from the
+      // reaction; the paper's drag F_D = int lambda n . e_x (6.3.1) is that minus the viscous
+      // traction, which the P2 velocity gives accurately.
+      const auto           id      = mesh.id(prm.output.drag_boundary, prm.case_file);
+      const Tensor<1, dim> force   = boundary_force(id);
+      const Tensor<1, dim> viscous = viscous_traction_force(id);
+      const double         F_D     = force[0] + viscous[0];
+      S["drag"]                    = F_D;
+      S["boundary_force"]          = {force[0], force[1]};
+      S["boundary_force_viscous"]  = {-viscous[0], -viscous[1]};
+      // Only the velocity is unique (4.4.4): where the material is rigid, any stress inside
+      // the cones that balances the loads will do, and the methods pick different ones (the
+      // silo's wall: vertical force +8.7 from the interior point, -5.8 from the fixed
+      // point). The force on a boundary that rigid material touches is then not determined.
+      const double rigid_fraction  = rigid_fraction_next_to(id, pf.zone);
+      S["boundary_rigid_fraction"] = rigid_fraction;
+      if (rigid_fraction > 0.1)
+        {
+          // a warning, so that summary.json, where the force is read, says it too
+          std::ostringstream w;
+          w << std::setprecision(3) << 100. * rigid_fraction
+            << " % of the constraint points next to '" << prm.output.drag_boundary
+            << "' are rigid; the stress in a rigid zone is not unique (only the velocity is, "
+               "Daviet 4.4.4), so boundary_force and drag are not determined by the model "
+               "there and depend on the solver";
+          report.warn(w.str());
+        }
+      // The trace of the stress field, lambda n = (lambda_xx n_x + lambda_xy n_y) with lambda =
+      // chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]]: the earlier estimate,
+      // kept for comparison. It is constrained only at its points; with P1d it moved by 50 %
+      // under refinement of the cylinder channel.
+      Vector<double> l_xx = stress_fields["lambda_N"], l_xy = stress_fields["lambda_2"];
+      l_xx += stress_fields["lambda_1"];
+      S["drag_from_stress_trace"] = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
+                                    postprocess::boundary_flux(mapping, dof_s, l_xy, id)[1];
+      // The wake, the arch, Fr and C_D are those of the cylinder channel's cylinder (its
+      // diameter, centred at the origin): Daviet 6.3.2 (Fig. 14) and 6.3.1.
+      if (prm.geometry.shape != "cylinder channel" || prm.output.drag_boundary != "cylinder")
+        return;
+      // The flow runs along +x or -x, as u_x does through the inflow boundary (whichever
+      // end of the channel that is, and whichever way through it): the wake is behind the
+      // cylinder along the flow. A jammed channel (|U_inf| below jammed_speed) has no
+      // direction and no dynamic pressure to scale C_D by.
+      const bool jammed =
+          !prm.output.inflow_boundary.empty() && std::abs(inflow.U_inf) < inflow.jammed_speed;
+      const double along = inflow.u_x < 0. && !jammed ? -1. : 1.;
+      summarise_cylinder_wake(S, pf, along);
+      if (inflow.reversed)
+        {
+          S["Froude"]           = nullptr;
+          S["drag_coefficient"] = nullptr;
+        }
+      else if (!prm.output.inflow_boundary.empty())
+        {
+          const double D = prm.geometry.cylinder_diameter;
+          S["Froude"]    = std::abs(inflow.U_inf) / std::sqrt(D);
+          // C_D of the drag along the flow
+          if (jammed)
+            {
+              S["drag_coefficient"] = nullptr;
+              S["jammed"]           = true;
+              log.print("dp: note: the flow is jammed (U_infinity = " +
+                        std::to_string(inflow.U_inf) + "): drag_coefficient is null\n");
+            }
+          else
+            S["drag_coefficient"] = along * F_D / (0.5 * inflow.U_inf * inflow.U_inf * D);
+        }
+    }
+
+    void
+    Problem::summarise_cylinder_wake(nlohmann::json &S, const PointFields &pf,
+                                     const double along) const
+    {
       const std::vector<double> &p     = pf.p;
       const std::vector<double> &div_u = pf.div_u;
-      const std::vector<double> &zone  = pf.zone;
-      // U_infinity is the inflow's mean speed on any mesh, positive into the domain. Below
-      // jammed_speed the channel is jammed: 1e-5 Re sqrt(g L) (velocities scale with Re, (23));
-      // at the sweep's Re = 100 that is 1e-3, as in scripts/cylinder_drag_sweep.sh (its jammed
-      // channels creep at the solver's accuracy in u, its slowest flowing one has 0.43).
-      const double jammed_speed = 1e-5 * prm.rheology.Re;
-      double       U_inf = 0., inflow_u_x = 0.;
-      bool   inflow_reversed = false; // material leaves through Output/Inflow boundary
-      if (!prm.output.inflow_boundary.empty())
+      // The wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
+      // divergence; the pressure peak on the centreline upstream (the arch) is located.
+      const double                          R      = 0.5 * prm.geometry.cylinder_diameter;
+      double                                wake_p = 0., wake_div = 0., wake_min_div = 1e300;
+      std::size_t                           wake_points = 0;
+      std::map<int, std::pair<double, int>> centreline; // bins of width R/4 upstream
+      for (std::size_t i = 0; i < n_points; ++i)
         {
-          const auto &inflow = flux_of.at(mesh.id(prm.output.inflow_boundary, prm.case_file));
-          U_inf           = -inflow.flux / inflow.length;
-          inflow_u_x      = inflow.mean_u_x;
-          S["U_infinity"] = U_inf;
-          // Material leaving through the named inflow boundary (the flow runs the other way):
-          // U_infinity measured there is the outflow's, which the material's dilation makes
-          // larger than the inflow's (1.66 times in the mirrored cylinder channel), so Fr and C_D
-          // would be wrong with exit 0; they are null, and the boundary where it enters is named.
-          if (U_inf < -jammed_speed)
+          const Point<dim> &y = point_location[i];
+          const double      x = along * y[0]; // downstream coordinate
+          if (x > R && x < 3. * R && std::abs(y[1]) < R)
             {
-              std::string entering;
-              double      least = 0.;
-              for (const auto &[name, id] : mesh.boundary_ids)
-                if (flux_of.at(id).flux < least)
-                  least = flux_of.at(id).flux, entering = name;
-              std::ostringstream w;
-              w << std::setprecision(4) << "Output/Inflow boundary = '"
-                << prm.output.inflow_boundary << "': the material leaves through it (volume flux "
-                << inflow.flux
-                << " out), so U_infinity there is an outflow's; Froude and drag_coefficient are "
-                   "null"
-                << (entering.empty() ? std::string()
-                                     : "; the material enters through '" + entering +
-                                           "': set Output/Inflow boundary = " + entering);
-              report.warn(w.str());
-              inflow_reversed = true;
+              wake_p = std::max(wake_p, p[i]);
+              wake_div += div_u[i];
+              wake_min_div = std::min(wake_min_div, div_u[i]);
+              ++wake_points;
+            }
+          if (x < -R && std::abs(y[1]) < 0.25 * R)
+            {
+              auto &bin = centreline[static_cast<int>(std::floor(x / (0.25 * R)))];
+              bin.first += p[i];
+              ++bin.second;
             }
         }
-      if (!prm.output.drag_boundary.empty())
-        {
-          // The material's force on the boundary, int (lambda - 2/Re eta D^b(u)) n (23), from the
-          // reaction; the paper's drag F_D = int lambda n . e_x (6.3.1) is that minus the viscous
-          // traction, which the P2 velocity gives accurately.
-          const auto           id      = mesh.id(prm.output.drag_boundary, prm.case_file);
-          const Tensor<1, dim> force   = boundary_force(id);
-          const Tensor<1, dim> viscous = viscous_traction_force(id);
-          const double         F_D     = force[0] + viscous[0];
-          S["drag"]                    = F_D;
-          S["boundary_force"]          = {force[0], force[1]};
-          S["boundary_force_viscous"]  = {-viscous[0], -viscous[1]};
-          // Only the velocity is unique (4.4.4): where the material is rigid, any stress inside
-          // the cones that balances the loads will do, and the methods pick different ones (the
-          // silo's wall: vertical force +8.7 from the interior point, -5.8 from the fixed
-          // point). The force on a boundary that rigid material touches is then not determined.
-          std::size_t touching = 0, rigid = 0;
+      double peak_x = 0., peak_p = -1.;
+      for (const auto &[bin, sum] : centreline)
+        if (sum.first / sum.second > peak_p)
           {
-            std::vector<types::global_dof_index> sdofs(fe_s.n_dofs_per_cell());
-            for (const auto &cell : dof_s.active_cell_iterators())
-              {
-                bool on_boundary = false;
-                for (const unsigned int f : cell->face_indices())
-                  on_boundary = on_boundary || (cell->face(f)->at_boundary() &&
-                                                cell->face(f)->boundary_id() == id);
-                if (!on_boundary)
-                  continue;
-                cell->get_dof_indices(sdofs);
-                for (unsigned int k = 0; k < 3; ++k)
-                  {
-                    const std::size_t i = p1d ? cell->active_cell_index() * 3 + k : sdofs[k];
-                    ++touching;
-                    rigid += zone[i] == 0;
-                  }
-              }
+            peak_p = sum.first / sum.second;
+            peak_x = (bin + 0.5) * 0.25 * R;
           }
-          const double rigid_fraction  = double(rigid) / std::max<std::size_t>(touching, 1);
-          S["boundary_rigid_fraction"] = rigid_fraction;
-          if (rigid_fraction > 0.1)
-            {
-              // a warning, so that summary.json, where the force is read, says it too
-              std::ostringstream w;
-              w << std::setprecision(3) << 100. * rigid_fraction
-                << " % of the constraint points next to '" << prm.output.drag_boundary
-                << "' are rigid; the stress in a rigid zone is not unique (only the velocity is, "
-                   "Daviet 4.4.4), so boundary_force and drag are not determined by the model "
-                   "there and depend on the solver";
-              report.warn(w.str());
-            }
-          // The trace of the stress field, lambda n = (lambda_xx n_x + lambda_xy n_y) with lambda =
-          // chi(lambda_N; lambda_1, lambda_2) = [[N + l1, l2], [l2, N - l1]]: the earlier estimate,
-          // kept for comparison. It is constrained only at its points; with P1d it moved by 50 %
-          // under refinement of the cylinder channel.
-          Vector<double> l_xx = stress_fields["lambda_N"], l_xy = stress_fields["lambda_2"];
-          l_xx += stress_fields["lambda_1"];
-          S["drag_from_stress_trace"] = postprocess::boundary_flux(mapping, dof_s, l_xx, id)[0] +
-                                        postprocess::boundary_flux(mapping, dof_s, l_xy, id)[1];
-          // The wake, the arch, Fr and C_D are those of the cylinder channel's cylinder (its
-          // diameter, centred at the origin): Daviet 6.3.2 (Fig. 14) and 6.3.1.
-          if (prm.geometry.shape != "cylinder channel" || prm.output.drag_boundary != "cylinder")
-            return;
-          // The flow runs along +x or -x, as u_x does through the inflow boundary (whichever
-          // end of the channel that is, and whichever way through it): the wake is behind the
-          // cylinder along the flow. A jammed channel (|U_inf| below jammed_speed) has no
-          // direction and no dynamic pressure to scale C_D by.
-          const bool jammed = !prm.output.inflow_boundary.empty() && std::abs(U_inf) < jammed_speed;
-          const double along  = inflow_u_x < 0. && !jammed ? -1. : 1.;
-          // The wake (one diameter behind the cylinder, |y| < D/2) has zero pressure and positive
-          // divergence; the pressure peak on the centreline upstream (the arch) is located.
-          const double R = 0.5 * prm.geometry.cylinder_diameter;
-          double       wake_p = 0., wake_div = 0., wake_min_div = 1e300;
-          std::size_t  wake_points = 0;
-          std::map<int, std::pair<double, int>> centreline; // bins of width R/4 upstream
-          for (std::size_t i = 0; i < n_points; ++i)
-            {
-              const Point<dim> &y = point_location[i];
-              const double      x = along * y[0]; // downstream coordinate
-              if (x > R && x < 3. * R && std::abs(y[1]) < R)
-                {
-                  wake_p = std::max(wake_p, p[i]);
-                  wake_div += div_u[i];
-                  wake_min_div = std::min(wake_min_div, div_u[i]);
-                  ++wake_points;
-                }
-              if (x < -R && std::abs(y[1]) < 0.25 * R)
-                {
-                  auto &bin = centreline[static_cast<int>(std::floor(x / (0.25 * R)))];
-                  bin.first += p[i];
-                  ++bin.second;
-                }
-            }
-          double peak_x = 0., peak_p = -1.;
-          for (const auto &[bin, sum] : centreline)
-            if (sum.first / sum.second > peak_p)
-              {
-                peak_p = sum.first / sum.second;
-                peak_x = (bin + 0.5) * 0.25 * R;
-              }
-          // (null where no constraint point falls in the window: a channel that ends within a
-          // diameter of the cylinder)
-          const auto measured = [](const bool any, const double value) {
-            return any ? nlohmann::json(value) : nlohmann::json(nullptr);
-          };
-          S["wake"]                   = {{"points", wake_points},
-                                         {"max_pressure", measured(wake_points > 0, wake_p)},
-                                         {"mean_div_u", measured(wake_points > 0, wake_div / double(wake_points))},
-                                         {"min_div_u", measured(wake_points > 0, wake_min_div)}};
-          S["upstream_pressure_peak"] = {{"x", measured(!centreline.empty(), along * peak_x)},
-                                         {"mean_pressure", measured(!centreline.empty(), peak_p)},
-                                         {"distance_from_cylinder_over_D",
-                                          measured(!centreline.empty(), (-peak_x - R) / (2. * R))}};
-          if (inflow_reversed)
-            {
-              S["Froude"]           = nullptr;
-              S["drag_coefficient"] = nullptr;
-            }
-          else if (!prm.output.inflow_boundary.empty())
-            {
-              const double D = prm.geometry.cylinder_diameter;
-              S["Froude"]    = std::abs(U_inf) / std::sqrt(D);
-              // C_D of the drag along the flow
-              if (jammed)
-                {
-                  S["drag_coefficient"] = nullptr;
-                  S["jammed"]           = true;
-                  log.print("dp: note: the flow is jammed (U_infinity = " + std::to_string(U_inf) +
-                            "): drag_coefficient is null\n");
-                }
-              else
-                S["drag_coefficient"] = along * F_D / (0.5 * U_inf * U_inf * D);
-            }
-        }
+      // (null where no constraint point falls in the window: a channel that ends within a
+      // diameter of the cylinder)
+      const auto measured = [](const bool any, const double value) {
+        return any ? nlohmann::json(value) : nlohmann::json(nullptr);
+      };
+      S["wake"]                   = {{"points", wake_points},
+                                     {"max_pressure", measured(wake_points > 0, wake_p)},
+                                     {"mean_div_u", measured(wake_points > 0, wake_div / double(wake_points))},
+                                     {"min_div_u", measured(wake_points > 0, wake_min_div)}};
+      S["upstream_pressure_peak"] = {{"x", measured(!centreline.empty(), along * peak_x)},
+                                     {"mean_pressure", measured(!centreline.empty(), peak_p)},
+                                     {"distance_from_cylinder_over_D",
+                                      measured(!centreline.empty(), (-peak_x - R) / (2. * R))}};
     }
 
     /// Fields at the constraint points, the zones, profiles, fluxes, drag and errors against the

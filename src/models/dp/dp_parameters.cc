@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <set>
 #include <sstream>
 
 namespace granflow::dp
@@ -293,6 +295,42 @@ namespace granflow::dp
       }
     parse_point(output.profile_start, f, "Output/Profile start");
     parse_point(output.profile_end, f, "Output/Profile end");
+  }
+
+  void
+  Parameters::require_reference_boundaries() const
+  {
+    const std::string &f = case_file;
+    // The Bingham reference (6.1.1) is (23)-(24) with u = 0 on the walls y = +-1 and the ends
+    // free along the channel, under one pressure or none (which does not change a flow at mu =
+    // 0); with other conditions its max_rel_error would be a silent wrong answer.
+    if (output.reference == "bingham poiseuille" && geometry.shape == "channel")
+      {
+        const auto           &bc    = boundaries;
+        const auto            walls = split_list(bc.no_slip);
+        std::set<std::string> free_ends;
+        for (const auto *list : {&bc.zero_y_velocity, &bc.zero_tangential_velocity})
+          for (const auto &name : split_list(*list))
+            free_ends.insert(name);
+        if (std::set<std::string>(walls.begin(), walls.end()) !=
+                std::set<std::string>{"bottom", "top"} ||
+            free_ends != std::set<std::string>{"inlet", "outlet"} ||
+            !split_list(bc.zero_x_velocity).empty() || !split_list(bc.zero_normal_velocity).empty())
+          throw InputError(f, "Output/Reference",
+                           "'bingham poiseuille' solves the channel with no-slip walls and free "
+                           "ends (6.1.1): needs Boundary conditions/No-slip = bottom, top, and "
+                           "the ends (inlet, outlet) free along the channel (Zero y-velocity or "
+                           "Zero tangential velocity)");
+        std::map<std::string, double> pressure{{"inlet", 0.}, {"outlet", 0.}};
+        for (const auto &[name, value] :
+             parse_named_values(bc.external_pressure, f, "Boundary conditions/External pressure"))
+          pressure[name] = value;
+        if (pressure["inlet"] != pressure["outlet"])
+          throw InputError(f, "Output/Reference",
+                           "'bingham poiseuille' is driven by the body force alone: needs "
+                           "Boundary conditions/External pressure equal at inlet and outlet (a "
+                           "pressure difference drives another flow)");
+      }
   }
 
   Parameters

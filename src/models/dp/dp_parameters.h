@@ -113,6 +113,10 @@ namespace granflow::dp
     /// Checks what the patterns cannot (strict positivity, consistency); throws InputError.
     void
     validate() const;
+    /// The Bingham reference holds for its boundary conditions only (6.1.1). Checked after the
+    /// conditions have been checked against the mesh, whose errors name the mistake better.
+    void
+    require_reference_boundaries() const;
     dealii::Tensor<1, 2>
     e_g() const;
     /// One message per Geometry entry that Geometry/Shape does not use but that differs from its

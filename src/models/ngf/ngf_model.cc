@@ -134,6 +134,13 @@ namespace granflow::ngf
       /// Assembles r (constrained rows zeroed) and, if asked, J.
       ResidualNorms
       assemble(double dt, bool with_jacobian);
+      /// (35): the wall pressure and the fluidity flux zeta on the faces of `cell`.
+      void
+      add_boundary_loads(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                         FEFaceValues<dim> &face, Vector<double> &r_local) const;
+      /// L_inf norms of the assembled residual's two fields (NaN if any entry is), scales unset.
+      ResidualNorms
+      residual_norms() const;
       class Increment;
       /// One increment's Newton iterations (solvers::NewtonSolver); false: not converged.
       bool
@@ -594,6 +601,61 @@ namespace granflow::ngf
     }
 
     template <int dim>
+    void
+    Problem<dim>::add_boundary_loads(const typename DoFHandler<dim>::active_cell_iterator &cell,
+                                     FEFaceValues<dim> &face, Vector<double> &r_local) const
+    {
+      // (35): external traction and fluidity flux, per unit reference area (per radian for the
+      // annulus: dA = R dZ). The shear column's wall presses along +z on z = 0; the annulus
+      // row's outer wall presses along -e_r.
+      for (const unsigned int f : cell->face_indices())
+        {
+          if (!cell->face(f)->at_boundary())
+            continue;
+          const types::boundary_id id   = cell->face(f)->boundary_id();
+          double                   zeta = 0.;
+          for (const auto &[bid, value] : g_neumann)
+            if (bid == id)
+              zeta = value;
+          const bool pressed = column ? id == wall_id : (id == outer_id && row);
+          if (!pressed && zeta == 0.)
+            continue;
+          face.reinit(cell, f);
+          for (unsigned int q = 0; q < face.get_quadrature().size(); ++q)
+            {
+              const double dA = face.JxW(q) * (dim == 3 ? 1. : face.quadrature_point(q)[0]);
+              for (unsigned int i = 0; i < fe.n_dofs_per_cell(); ++i)
+                {
+                  const unsigned int component = fe.system_to_component_index(i).first;
+                  const double       N         = face.shape_value(i, q);
+                  if (pressed && component == (column ? 2U : 0U))
+                    r_local[i] += (column ? -1. : 1.) * N * scale.P_wall * dA;
+                  if (component == 3)
+                    r_local[i] -= N * zeta * dA;
+                }
+            }
+        }
+    }
+
+    template <int dim>
+    typename Problem<dim>::ResidualNorms
+    Problem<dim>::residual_norms() const
+    {
+      ResidualNorms n;
+      for (types::global_dof_index i = 0; i < residual.size(); ++i)
+        if (!newton_constraints.is_constrained(i))
+          {
+            double &r = dof_component[i] == 3 ? n.g : n.u;
+            // a NaN must propagate (std::max would drop it and report convergence)
+            r = std::isfinite(residual[i]) ? std::max(r, std::abs(residual[i]))
+                                           : std::numeric_limits<double>::quiet_NaN();
+            if (std::isnan(r))
+              return {r, r, 1., 1.};
+          }
+      return n;
+    }
+
+    template <int dim>
     typename Problem<dim>::ResidualNorms
     Problem<dim>::assemble(const double dt, const bool with_jacobian)
     {
@@ -683,37 +745,7 @@ namespace granflow::ngf
                 copy.J_local(i, j) = eo.jacobian(kernel_index[i], kernel_index[j]);
           }
 
-        // (35): external traction and fluidity flux, per unit reference area (per radian for the
-        // annulus: dA = R dZ). The shear column's wall presses along +z on z = 0; the annulus
-        // row's outer wall presses along -e_r.
-        for (const unsigned int f : cell->face_indices())
-          {
-            if (!cell->face(f)->at_boundary())
-              continue;
-            const types::boundary_id id   = cell->face(f)->boundary_id();
-            double                   zeta = 0.;
-            for (const auto &[bid, value] : g_neumann)
-              if (bid == id)
-                zeta = value;
-            const bool pressed = column ? id == wall_id : (id == outer_id && row);
-            if (!pressed && zeta == 0.)
-              continue;
-            FEFaceValues<dim> &face = scratch.face;
-            face.reinit(cell, f);
-            for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-              {
-                const double dA = face.JxW(q) * (dim == 3 ? 1. : face.quadrature_point(q)[0]);
-                for (unsigned int i = 0; i < n_dofs; ++i)
-                  {
-                    const unsigned int component = fe.system_to_component_index(i).first;
-                    const double       N         = face.shape_value(i, q);
-                    if (pressed && component == (column ? 2U : 0U))
-                      copy.r_local[i] += (column ? -1. : 1.) * N * scale.P_wall * dA;
-                    if (component == 3)
-                      copy.r_local[i] -= N * zeta * dA;
-                  }
-              }
-          }
+        add_boundary_loads(cell, scratch.face, copy.r_local);
       };
       const auto copier = [&](const Copy &copy) {
         force_scale    = std::max(force_scale, copy.force_scale);
@@ -739,17 +771,9 @@ namespace granflow::ngf
       // the terms that make up an element's nodal residual: where the flow is confined to a few
       // elements (its onset near a free surface) the average over the mesh is mostly zeros and
       // would demand more than round-off allows.
-      ResidualNorms n;
-      for (types::global_dof_index i = 0; i < residual.size(); ++i)
-        if (!newton_constraints.is_constrained(i))
-          {
-            double &r = dof_component[i] == 3 ? n.g : n.u;
-            // a NaN must propagate (std::max would drop it and report convergence)
-            r = std::isfinite(residual[i]) ? std::max(r, std::abs(residual[i]))
-                                           : std::numeric_limits<double>::quiet_NaN();
-            if (std::isnan(r))
-              return {r, r, 1., 1.};
-          }
+      ResidualNorms n = residual_norms();
+      if (std::isnan(n.u))
+        return n;
       n.u_scale = force_scale;
       n.g_scale                = fluidity_scale;
       boundary_fluidity_supply = fluidity_supply;
