@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <optional>
 #include <sstream>
@@ -145,11 +146,14 @@ main(int argc, char **argv)
   ConeProblemData data;
   try
     {
-      data = load_cone_problem(argv[1]);
+      std::ifstream in(argv[1], std::ios::binary);
+      if (!in)
+        return bad_input("cannot read cone problem '" + std::string(argv[1]) + "'");
+      data = read_cone_problem(in);
     }
   catch (const std::exception &e)
     {
-      return bad_input(e.what());
+      return bad_input("'" + std::string(argv[1]) + "' " + e.what());
     }
   if (paper_units)
     data.gamma_scale.clear();

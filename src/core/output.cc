@@ -2,6 +2,9 @@
 
 #include "core/errors.h"
 
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -11,6 +14,32 @@
 
 namespace granflow
 {
+  void
+  write_file_atomically(const std::string &path, const std::function<void(std::ostream &)> &write)
+  {
+    const std::string tmp = path + ".tmp";
+    std::string       failed, reason; // the path that could not be written, and why
+    bool              created = false;
+    {
+      errno = 0;
+      std::ofstream out(tmp, std::ios::binary);
+      created = static_cast<bool>(out);
+      if (created)
+        write(out);
+      out.close();
+      if (!out)
+        failed = tmp, reason = errno != 0 ? std::strerror(errno) : "write error";
+    }
+    if (failed.empty() && std::rename(tmp.c_str(), path.c_str()) != 0)
+      failed = path, reason = std::strerror(errno);
+    if (!failed.empty())
+      {
+        if (created) // (not a file of that name that was there before, say a directory)
+          std::remove(tmp.c_str());
+        throw std::runtime_error("cannot write '" + failed + "': " + reason);
+      }
+  }
+
   namespace fs = std::filesystem;
 
   namespace
@@ -46,19 +75,10 @@ namespace granflow
           return true;
       return name.rfind("solution-", 0) == 0 && relative.extension() == ".vtu";
     }
-    /// Writes `content` to `path` through a temporary file renamed over it: a reader never sees a
-    /// half-written file.
     void
     write_atomically(const fs::path &path, const std::string &content)
     {
-      const fs::path tmp = path.string() + ".tmp";
-      {
-        std::ofstream out(tmp);
-        out << content;
-        if (!out)
-          throw std::runtime_error("cannot write " + tmp.string());
-      }
-      fs::rename(tmp, path);
+      write_file_atomically(path.string(), [&](std::ostream &out) { out << content; });
     }
 
     /// `path` made absolute and canonical as far as it exists; empty if that fails.

@@ -8,11 +8,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
+#include <iosfwd>
 #include <string>
 #include <vector>
 
 namespace granflow
 {
+  /// Writes `path` through `write` into a temporary file renamed over it: a reader never sees a
+  /// half-written file, and a process stopped while writing leaves an earlier file of that name
+  /// whole. Throws std::runtime_error with the system's reason; then nothing is left of it.
+  void
+  write_file_atomically(const std::string &path, const std::function<void(std::ostream &)> &write);
+
   class OutputDirectory
   {
   public:

@@ -181,11 +181,14 @@ namespace granflow::solvers
                 const std::vector<double> &lambda,
                 const std::vector<double> &gamma);
 
-  /// Binary dump and replay (sand6's d6_solvePrimal idea): the whole ConeProblemData.
+  /// Binary dump and replay (sand6's d6_solvePrimal idea): the whole ConeProblemData, on streams
+  /// (the files are the caller's: core::write_file_atomically, bench/replay_cone_problem).
   void
-  save_cone_problem(const ConeProblemData &data, const std::string &file);
+  write_cone_problem(const ConeProblemData &data, std::ostream &out);
+  /// Refuses a stream that is not a consistent dump with std::runtime_error, whose message
+  /// completes a sentence about the stream ("is truncated"), for the caller to name it.
   ConeProblemData
-  load_cone_problem(const std::string &file);
+  read_cone_problem(std::istream &in);
 
   /// The case files' names: "pg", "apgd", "spg" (std::invalid_argument otherwise).
   InnerSolver

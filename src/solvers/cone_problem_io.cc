@@ -1,10 +1,10 @@
-// Binary dump / load of a ConeProblemData, for replaying a solve offline (bench/).
+// Binary dump / load of a ConeProblemData on streams, for replaying a solve offline (bench/).
 #include "solvers/cone_problem.h"
 
 #include <algorithm>
 #include <cstdint>
-#include <cstdio>
-#include <fstream>
+#include <istream>
+#include <ostream>
 #include <stdexcept>
 
 namespace granflow::solvers
@@ -68,14 +68,8 @@ namespace granflow::solvers
   } // namespace
 
   void
-  save_cone_problem(const ConeProblemData &data, const std::string &file)
+  write_cone_problem(const ConeProblemData &data, std::ostream &out)
   {
-    // Into a temporary file renamed at the end: a run stopped while writing (a signal before
-    // results ends the process at once) leaves an earlier dump of that name whole.
-    const std::string tmp = file + ".tmp";
-    std::ofstream     out(tmp, std::ios::binary);
-    if (!out)
-      throw std::runtime_error("cannot write cone problem to '" + file + "'");
     const std::uint64_t header[2] = {magic, data.block_size};
     out.write(reinterpret_cast<const char *>(header), sizeof(header));
     write_matrix(out, data.A);
@@ -85,27 +79,18 @@ namespace granflow::solvers
     write_vector(out, data.mu);
     write_vector(out, data.Bi);
     write_vector(out, data.gamma_scale);
-    out.close();
-    if (!out || std::rename(tmp.c_str(), file.c_str()) != 0)
-      {
-        std::remove(tmp.c_str());
-        throw std::runtime_error("cannot write cone problem to '" + file + "'");
-      }
   }
 
   ConeProblemData
-  load_cone_problem(const std::string &file)
+  read_cone_problem(std::istream &in)
   {
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
-      throw std::runtime_error("cannot read cone problem '" + file + "'");
     std::uint64_t header[2] = {0, 0};
     in.read(reinterpret_cast<char *>(header), sizeof(header));
     if (header[0] != magic)
-      throw std::runtime_error("'" + file + "' is not a granflow cone problem dump");
+      throw std::runtime_error("is not a granflow cone problem dump");
     ConeProblemData data;
     if (header[1] != 3 && header[1] != 6)
-      throw std::runtime_error("'" + file + "' has cone blocks of " + std::to_string(header[1]) +
+      throw std::runtime_error("has cone blocks of " + std::to_string(header[1]) +
                                " components, not 3 (2D) or 6 (3D): a corrupt dump");
     data.block_size = static_cast<unsigned int>(header[1]);
     read_matrix(in, data.A);
@@ -117,7 +102,7 @@ namespace granflow::solvers
     if (in.peek() != std::char_traits<char>::eof()) // dumps before session 12 end here
       read_vector(in, data.gamma_scale);
     if (!in)
-      throw std::runtime_error("'" + file + "' is truncated");
+      throw std::runtime_error("is truncated");
     // The sizes and indices the solvers rely on, so that a corrupt file is refused here rather
     // than read out of bounds.
     const auto valid = [](const CsrMatrix &M) {
@@ -135,9 +120,9 @@ namespace granflow::solvers
         data.H.n_cols != data.A.n_rows || data.l.size() != data.A.n_rows ||
         data.k.size() != data.H.n_rows || data.block_size == 0 ||
         data.mu.size() * data.block_size != data.H.n_rows || data.Bi.size() != data.mu.size())
-      throw std::runtime_error("'" + file + "' is not a consistent cone problem (corrupt dump)");
+      throw std::runtime_error("is not a consistent cone problem (corrupt dump)");
     if (!data.gamma_scale.empty() && data.gamma_scale.size() != data.mu.size())
-      throw std::runtime_error("'" + file + "' has " + std::to_string(data.gamma_scale.size()) +
+      throw std::runtime_error("has " + std::to_string(data.gamma_scale.size()) +
                                " residual scales for " + std::to_string(data.mu.size()) +
                                " points");
     return data;

@@ -747,7 +747,7 @@ fi
 # one does not (the manifest used to be written last, and a failed commit orphaned files).
 "$GRANFLOW" run "$case_file" --quiet --output failed_commit --set "Output/Write vtu=false" >/dev/null 2>&1
 mkdir failed_commit/.granflow-files.tmp
-check commit-fails 1 "cannot write failed_commit/.granflow-files.tmp" "$GRANFLOW" run "$case_file" \
+check commit-fails 1 "cannot write 'failed_commit/.granflow-files.tmp'" "$GRANFLOW" run "$case_file" \
   --quiet --output failed_commit
 rmdir failed_commit/.granflow-files.tmp
 check commit-after-failure 0 "Results in failed_commit" "$GRANFLOW" run "$case_file" --quiet \

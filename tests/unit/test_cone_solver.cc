@@ -11,7 +11,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <fstream>
 #include <iterator>
 #include <limits>
 #include <random>
@@ -484,9 +483,17 @@ TEST(ConeProblemIO, DumpAndLoadRoundTrip)
   data.mu         = {0.4};
   data.Bi         = {0.1};
   data.gamma_scale       = {250.};
-  const std::string file = ::testing::TempDir() + "/cone.bin";
-  save_cone_problem(data, file);
-  const ConeProblemData back = load_cone_problem(file);
+  const auto dump        = [](const ConeProblemData &d) {
+    std::ostringstream out(std::ios::binary);
+    write_cone_problem(d, out);
+    return out.str();
+  };
+  const auto load = [](const std::string &bytes) {
+    std::istringstream in(bytes, std::ios::binary);
+    return read_cone_problem(in);
+  };
+  const std::string     bytes = dump(data);
+  const ConeProblemData back  = load(bytes);
   EXPECT_EQ(back.H.value, data.H.value);
   EXPECT_EQ(back.H.column, data.H.column);
   EXPECT_EQ(back.l, data.l);
@@ -496,25 +503,21 @@ TEST(ConeProblemIO, DumpAndLoadRoundTrip)
   EXPECT_EQ(back.gamma_scale, data.gamma_scale);
 
   // A dump from before session 12 ends after Bi: it loads, with no scale (all 1).
-  {
-    std::ifstream in(file, std::ios::binary);
-    std::string   bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    std::ofstream old(::testing::TempDir() + "/cone_old.bin", std::ios::binary);
-    old.write(bytes.data(), bytes.size() - 2 * sizeof(std::uint64_t)); // size 1, one double
-  }
-  EXPECT_TRUE(load_cone_problem(::testing::TempDir() + "/cone_old.bin").gamma_scale.empty());
+  EXPECT_TRUE(load(bytes.substr(0, bytes.size() - 2 * sizeof(std::uint64_t))) // size 1, one double
+                  .gamma_scale.empty());
+  // A truncated one, or another file, is refused.
+  EXPECT_THROW(load(bytes.substr(0, bytes.size() / 2)), std::runtime_error);
+  EXPECT_THROW(load("not a dump at all"), std::runtime_error);
   // A scale per point or none: anything else is refused.
   data.gamma_scale = {1., 2.};
-  save_cone_problem(data, file);
-  EXPECT_THROW(load_cone_problem(file), std::runtime_error);
+  EXPECT_THROW(load(dump(data)), std::runtime_error);
   // Cone blocks of 3 (2D) or 6 (3D) components, nothing else: one point of 1-component blocks
   // is size-consistent with a 1-row H, and was accepted before.
   data.H           = dense_to_csr({{1., 0., 0.}});
   data.k           = {0.};
   data.gamma_scale = {};
   data.block_size  = 1;
-  save_cone_problem(data, file);
-  EXPECT_THROW(load_cone_problem(file), std::runtime_error);
+  EXPECT_THROW(load(dump(data)), std::runtime_error);
   EXPECT_THROW(cone_residual(data, ResidualKind::fischer_burmeister, {0.}, {0.}),
                std::invalid_argument);
 }

@@ -1015,7 +1015,9 @@ namespace granflow::dp
             // relative to the output directory, subdirectories included
             const std::filesystem::path dump = out.file(prm.solver.dump_cone_problem);
             std::filesystem::create_directories(dump.parent_path());
-            solvers::save_cone_problem(data, dump.string());
+            write_file_atomically(dump.string(), [&](std::ostream &file) {
+              solvers::write_cone_problem(data, file);
+            });
           }
         catch (const std::exception &e)
           {
