@@ -11,13 +11,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <string>
+#include <type_traits>
+#include <vector>
 
 namespace
 {
@@ -26,7 +31,10 @@ namespace
       "  (ip: the interior-point method on the whole problem; default methods: pg apgd spg)\n"
       "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n"
       "  (GRANFLOW_REPLAY_UNITS=paper: the residual of Daviet (35), lambda against gamma with its\n"
-      "   quadrature weight, instead of the run's units of stress)\n";
+      "   quadrature weight, instead of the run's units of stress)\n"
+      "  (GRANFLOW_REPLAY_TUNE='interior_point.short_steps=10, fixed_point.spg_memory=20': the\n"
+      "   solvers' tunables, FixedPointTunables and InteriorPointTunables in\n"
+      "   src/solvers/cone_problem.h, without recompiling)\n";
 
   /// A positive finite number written in full ("1e-6", not "1e-6x"), or nothing.
   std::optional<double>
@@ -43,6 +51,57 @@ namespace
       {
       }
     return std::nullopt;
+  }
+
+  /// One of the solvers' tunables, by the name GRANFLOW_REPLAY_TUNE gives it.
+  struct Tunable
+  {
+    std::string                                                         name;
+    bool                                                                count; // a whole number
+    std::function<void(granflow::solvers::ConeSolverOptions &, double)> set;
+  };
+
+  template <typename Group, typename T>
+  Tunable
+  tunable(const std::string &group_name, Group granflow::solvers::ConeSolverOptions::*group,
+          const char *name, T Group::*field)
+  {
+    return {group_name + "." + name, std::is_integral_v<T>,
+            [=](granflow::solvers::ConeSolverOptions &o, const double v) {
+              (o.*group).*field = static_cast<T>(v);
+            }};
+  }
+
+  std::vector<Tunable>
+  tunables()
+  {
+    using namespace granflow::solvers;
+    using F                                                 = FixedPointTunables;
+    using I                                                 = InteriorPointTunables;
+    const std::string            fp                         = "fixed_point";
+    const std::string            ip                         = "interior_point";
+    constexpr FixedPointTunables ConeSolverOptions::*fpg    = &ConeSolverOptions::fixed_point;
+    constexpr InteriorPointTunables ConeSolverOptions::*ipg = &ConeSolverOptions::interior_point;
+    return {tunable(fp, fpg, "stall_ratio", &F::stall_ratio),
+            tunable(fp, fpg, "stalls_before_tightening", &F::stalls_before_tightening),
+            tunable(fp, fpg, "max_inner_growth", &F::max_inner_growth),
+            tunable(fp, fpg, "min_inner_tolerance_factor", &F::min_inner_tolerance_factor),
+            tunable(fp, fpg, "inner_tolerance_floor", &F::inner_tolerance_floor),
+            tunable(fp, fpg, "anderson_regularization", &F::anderson_regularization),
+            tunable(fp, fpg, "norm_estimate_iterations", &F::norm_estimate_iterations),
+            tunable(fp, fpg, "norm_margin", &F::norm_margin),
+            tunable(fp, fpg, "apgd_min_lipschitz_fraction", &F::apgd_min_lipschitz_fraction),
+            tunable(fp, fpg, "apgd_lipschitz_decrease", &F::apgd_lipschitz_decrease),
+            tunable(fp, fpg, "spg_memory", &F::spg_memory),
+            tunable(fp, fpg, "spg_armijo", &F::spg_armijo),
+            tunable(fp, fpg, "spg_max_step", &F::spg_max_step),
+            tunable(ip, ipg, "step_fraction", &I::step_fraction),
+            tunable(ip, ipg, "centering_exponent", &I::centering_exponent),
+            tunable(ip, ipg, "initial_margin", &I::initial_margin),
+            tunable(ip, ipg, "short_step", &I::short_step),
+            tunable(ip, ipg, "short_steps", &I::short_steps),
+            tunable(ip, ipg, "stagnation_iterations", &I::stagnation_iterations),
+            tunable(ip, ipg, "stagnation_ratio", &I::stagnation_ratio)};
   }
 
   int
@@ -80,6 +139,7 @@ namespace
             {"time_solve_s", stats.time_solve},
             {"time_total_s", stats.time_factorize + stats.time_solve},
             {"fixed_point_iterations", stats.outer_iterations},
+            {"stall_reason", stats.stall_reason},
             {"inner_iterations", stats.inner_iterations},
             {"W_applications", stats.operator_applications},
             {"time_per_fixed_point_iteration_s",
@@ -143,6 +203,57 @@ main(int argc, char **argv)
       paper_units = std::string(u) == "paper";
     }
 
+  // GRANFLOW_REPLAY_TUNE: "name=value, ..." over the tunables' defaults, each a finite number
+  // >= 0 (a whole one for counts), each name at most once.
+  ConeSolverOptions tuned;
+  nlohmann::json    tuned_json = nlohmann::json::object();
+  if (const char *t = std::getenv("GRANFLOW_REPLAY_TUNE"); t && *t)
+    {
+      const std::vector<Tunable> known = tunables();
+      std::stringstream          list(t);
+      std::string                item;
+      while (std::getline(list, item, ','))
+        {
+          const auto eq   = item.find('=');
+          const auto trim = [](std::string x) {
+            x.erase(0, x.find_first_not_of(" \t"));
+            x.erase(x.find_last_not_of(" \t") + 1);
+            return x;
+          };
+          const std::string name = trim(item.substr(0, eq));
+          const auto        it   = std::find_if(known.begin(), known.end(),
+                                                [&](const Tunable &k) { return k.name == name; });
+          if (eq == std::string::npos || it == known.end())
+            {
+              std::string names;
+              for (const auto &k : known)
+                names += (names.empty() ? "" : ", ") + k.name;
+              return bad_input("GRANFLOW_REPLAY_TUNE: '" + trim(item) +
+                               "' is not name=value with a known name: expected one of " + names);
+            }
+          if (tuned_json.contains(name))
+            return bad_input("GRANFLOW_REPLAY_TUNE: " + name + " is set twice");
+          const std::string text  = trim(item.substr(eq + 1));
+          double            value = -1.;
+          try
+            {
+              std::size_t used = 0;
+              value            = std::stod(text, &used);
+              if (used != text.size())
+                value = -1.;
+            }
+          catch (const std::exception &)
+            {
+            }
+          if (!(std::isfinite(value) && value >= 0.) ||
+              (it->count && (value != std::floor(value) || value > 1e9)))
+            return bad_input("GRANFLOW_REPLAY_TUNE: " + name + "='" + text + "': expected " +
+                             (it->count ? "a whole number >= 0" : "a finite number >= 0"));
+          it->set(tuned, value);
+          tuned_json[name] = value;
+        }
+    }
+
   ConeProblemData data;
   try
     {
@@ -166,7 +277,9 @@ main(int argc, char **argv)
       nlohmann::json    entry = {{"method", name == "ip" ? "interior point" : "fixed point"},
                                  {"inner_solver", name == "ip" ? "" : name},
                                  {"residual_units", paper_units ? "paper" : "run"}};
-      ConeSolverOptions options;
+      ConeSolverOptions options = tuned;
+      if (!tuned_json.empty())
+        entry["tunables"] = tuned_json;
       if (name == "ip")
         options.method = ConeMethod::interior_point;
       else
