@@ -34,7 +34,8 @@ namespace granflow::interrupt
     {
       say("\ngranflow: stopped by ");
       say(signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal");
-      say(" before anything was computed (while meshing, setting up or factorising): ");
+      say(" before it had results to write (while meshing, setting up, or in the first "
+          "iteration): ");
       say(outcome);
       say("\n");
       ::_exit(128 + signal);

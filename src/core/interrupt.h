@@ -4,9 +4,9 @@
 // signal number. A second signal ends the process at once, as without the handler.
 //
 // The steps before a run has anything to write (Gmsh's meshing, which cannot poll; the setup; dp's
-// first factorisation of A) run inside a BeforeResults scope, where the first signal ends the
-// process at once: nothing has been computed that could be written, and the output directory is
-// left as it was.
+// solver until its first iteration is complete; ngf's until its first increment) run inside a
+// BeforeResults scope, where the first signal ends the process at once: nothing has been computed
+// that is worth writing, and the output directory is left as it was.
 #pragma once
 
 #include <string>

@@ -24,10 +24,21 @@ namespace granflow
       errno = 0;
       std::ofstream out(tmp, std::ios::binary);
       created = static_cast<bool>(out);
-      if (created)
-        write(out);
+      if (!created)
+        failed = tmp, reason = errno != 0 ? std::strerror(errno) : "cannot be opened";
+      else
+        try
+          {
+            write(out);
+          }
+        catch (...)
+          {
+            out.close();
+            std::remove(tmp.c_str());
+            throw;
+          }
       out.close();
-      if (!out)
+      if (failed.empty() && !out)
         failed = tmp, reason = errno != 0 ? std::strerror(errno) : "write error";
     }
     if (failed.empty() && std::rename(tmp.c_str(), path.c_str()) != 0)

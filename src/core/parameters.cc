@@ -429,8 +429,8 @@ namespace granflow
     while (std::getline(in, item, ','))
       if (trim(item).empty())
         throw InputError(file, entry,
-                         "= " + trim(list) +
-                             " has an empty item: expected items separated by single commas");
+                         "'" + trim(list) +
+                             "' has an empty item: expected items separated by single commas");
   }
 
   double

@@ -276,6 +276,22 @@ namespace granflow::solvers
       }
 
     private:
+      /// A tunable's value as a user writes it: 1e-4 (not 0.0001), 0.5, 3.
+      static std::string
+      as_written(const double v)
+      {
+        std::ostringstream s;
+        if (v != 0. && std::abs(v) < 1e-3)
+          {
+            const int    e = static_cast<int>(std::floor(std::log10(std::abs(v))));
+            const double m = v / std::pow(10., e);
+            s << std::setprecision(3) << m << 'e' << e;
+          }
+        else
+          s << v;
+        return s.str();
+      }
+
       /// Which stall rule of InteriorPointTunables ended the solve, in words.
       std::string
       stall_reason(const double step, const unsigned int short_steps) const
@@ -287,11 +303,11 @@ namespace granflow::solvers
         else if (step == 0.)
           s << "no step kept the iterate interior (rounding)";
         else if (short_steps == tune.short_steps)
-          s << tune.short_steps << " successive steps were shorter than " << tune.short_step
-            << " (the iterates left the central path)";
+          s << tune.short_steps << " successive steps were shorter than "
+            << as_written(tune.short_step) << " (the iterates left the central path)";
         else
           s << tune.stagnation_iterations << " iterations gained less than "
-            << 100. * (1. - tune.stagnation_ratio) << " % on the least residual";
+            << as_written(100. * (1. - tune.stagnation_ratio)) << " % on the least residual";
         return s.str();
       }
 

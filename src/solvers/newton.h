@@ -83,7 +83,9 @@ namespace granflow::solvers
   {
     bool                       converged  = false;
     bool                       singular   = false; // a Jacobian could not be factorised
-    unsigned int               iterations = 0;     // corrections computed
+    /// The index of the last iterate: the corrections taken (a negligible last one, which
+    /// ends the solve, is applied but not counted).
+    unsigned int               iterations = 0;
     std::vector<NewtonIterate> history;
   };
 
@@ -229,13 +231,6 @@ namespace granflow::solvers
           if (alpha < 1. && options.log)
             *options.log << std::setw(36) << "line search step" << std::setw(12) << alpha << '\n';
         }
-    }
-
-    /// The next step factorises afresh (e.g. after the problem's matrix pattern changed).
-    void
-    forget_factorization()
-    {
-      factorization_valid = false;
     }
 
   private:

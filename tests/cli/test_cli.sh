@@ -178,11 +178,11 @@ check continued-comment-and-upper-case-end 0 "Results in continued" "$GRANFLOW" 
 check unknown-set-entry 2 "--set Rheology/Friction=0.5: unknown entry 'Rheology/Friction'" "$GRANFLOW" run \
   "$case_file" --output keep --quiet --set "Rheology/Friction=0.5"
 # An empty item in a list of boundaries is a typo (it was passed over without a word).
-bad boundary-list-empty-item "Boundary conditions/No-slip': = bottom,,top has an empty item" \
+bad boundary-list-empty-item "Boundary conditions/No-slip': 'bottom,,top' has an empty item" \
   --set "Boundary conditions/No-slip=bottom,,top"
-bad boundary-list-trailing-comma "Boundary conditions/No-slip': = bottom, top, has an empty item" \
+bad boundary-list-trailing-comma "Boundary conditions/No-slip': 'bottom, top,' has an empty item" \
   --set "Boundary conditions/No-slip=bottom, top,"
-bad pressure-list-empty-item "Boundary conditions/External pressure': = , left: 1 has an empty item" \
+bad pressure-list-empty-item "Boundary conditions/External pressure': ', left: 1' has an empty item" \
   --set "Boundary conditions/External pressure=, left: 1"
 bad mu-negative "mu" --set "Rheology/mu=-0.1"
 # In 2D mu = sin(phi) < 1; both solvers failed on a closed hopper at mu = 2.
@@ -376,7 +376,7 @@ ngf_bad mu_s-one "Material/mu_s" --set "Material/mu_s=1"
 ngf_bad mu_s-above-one "mu_s" --set "Material/mu_s=1.5"
 ngf_bad fluidity-boundary-missing "lid" --set "Fluidity boundary conditions/Dirichlet=lid: 0"
 # An empty item in a list of boundaries is a typo (it was passed over without a word).
-ngf_bad fluidity-list-empty-item "Fluidity boundary conditions/Neumann': = top: 0,, bottom: 0 has an empty item" \
+ngf_bad fluidity-list-empty-item "Fluidity boundary conditions/Neumann': 'top: 0,, bottom: 0' has an empty item" \
   --set "Fluidity boundary conditions/Neumann=top: 0,, bottom: 0"
 ngf_bad fluidity-neumann-missing "side" --set "Fluidity boundary conditions/Neumann=side: 1"
 ngf_bad fluidity-boundary-of-other-geometry "inner wall" --set "Fluidity boundary conditions/Dirichlet=inner wall: 0"
@@ -604,7 +604,7 @@ kill -INT $pid && delivered=1 || delivered=0
 wait $pid
 got=$?
 if [ "$delivered" -eq 1 ] && [ "$got" -eq 0 ] && grep -q "0 fixed-point iterations" at_once/log.txt 2>/dev/null && [ -s at_once/summary.json ] &&
-  ! grep -q "before anything was computed" err.txt; then pass "signal after a solve converged at once keeps its results"
+  ! grep -q "before it had results to write" err.txt; then pass "signal after a solve converged at once keeps its results"
 else fail "signal after a solve converged at once keeps its results" "exit $got"; cat err.txt; fi
 
 # A signal during the solver's first iteration also ends the run at once: its starting point is no
@@ -615,12 +615,18 @@ mkdir -p first_step && echo mine >first_step/notes.txt
   --set "Geometry/Mesh size=0.09" --set "Output/Write vtu=false" >out.txt 2>err.txt &
 pid=$! waited=0
 until grep -qsE '^ +0 +[0-9.]+e' .first_step.staging/log.txt || [ $waited -ge 1200 ]; do sleep 0.05; waited=$((waited + 1)); done
-kill -TERM $pid
-wait $pid
-got=$?
-if [ "$got" -eq 143 ] && grep -q "first_step was left as it was" err.txt && [ "$(ls first_step)" = notes.txt ]; then
-  pass "signal during the first iteration keeps earlier results"
-else fail "signal during the first iteration keeps earlier results" "exit $got"; cat err.txt; ls first_step; fi
+# (a machine fast enough to finish the first step before the poll sees row 0 cannot test this)
+if grep -qsE '^ +1 +[0-9.]+e' .first_step.staging/log.txt; then
+  kill -TERM $pid; wait $pid
+  echo "skip signal during the first iteration: the first step ended before the signal could be sent"
+else
+  kill -TERM $pid
+  wait $pid
+  got=$?
+  if [ "$got" -eq 143 ] && grep -q "first_step was left as it was" err.txt && [ "$(ls first_step)" = notes.txt ]; then
+    pass "signal during the first iteration keeps earlier results"
+  else fail "signal during the first iteration keeps earlier results" "exit $got"; cat err.txt; ls first_step; fi
+fi
 
 # list-cases takes each case's first comment line with text (a bare '#' line ended it with an
 # internal error).

@@ -81,7 +81,8 @@ namespace
       last = r(x);
       if (with_jacobian)
         assembled = J(x);
-      return {{std::abs(last[0]), std::abs(last[1])}, {1., 1.}};
+      const R2 s = scale(x);
+      return {{std::abs(last[0]), std::abs(last[1])}, {s[0], s[1]}};
     }
 
     bool
@@ -116,6 +117,7 @@ namespace
 
     Residual                             r;
     Jacobian                             J;
+    Residual scale = [](const Vec2 &) { return r2(1., 1.); }; // of each field's residual
     Vec2                                 x;
     std::array<double, 2>                last{};
     std::array<std::array<double, 2>, 2> assembled{}, factorized{};
@@ -217,11 +219,67 @@ TEST(Newton, AReusedFactorizationIsKeptOnlyWhileItContracts)
   EXPECT_FALSE(far.history[0].fresh);
   EXPECT_TRUE(far.history[1].fresh);
   EXPECT_EQ(far.history[0].residual, far.history[1].residual); // the step was undone
+}
 
-  // forget_factorization() makes the next step fresh.
-  newton.forget_factorization();
-  problem.x = vec(1.001, 2.001);
-  EXPECT_TRUE(newton.solve(problem, 3).history.front().fresh);
+TEST(Newton, AStaleFactorizationsSmallStepIsNoConvergence)
+{
+  // A stiff problem leaves the factorisation of J = diag(1e12, 1); the next problem, with its root
+  // at x0 = 3, gets from it a correction of 2e-12 of x0, negligible by the rule that ends a solve
+  // at the round-off floor. That rule holds for fresh Jacobians only: the stale step does not
+  // contract the residual, is undone, and the new Jacobian leads to the root.
+  TwoFields     problem([](const Vec2 &y) { return r2(1e12 * (y.v[0] - 1.), y.v[1] - 2.); },
+                    [](const Vec2 &) { return m2(1e12, 0., 0., 1.); }, vec(1.5, 2.));
+  NewtonOptions options       = pure_newton(1e-6);
+  options.reuse_factorization = true;
+  NewtonSolver<Vec2> newton(options);
+  ASSERT_TRUE(newton.solve(problem, 0).converged);
+  problem.r               = [](const Vec2 &y) { return r2(y.v[0] - 3., y.v[1] - 2.); };
+  problem.J               = [](const Vec2 &) { return m2(1., 0., 0., 1.); };
+  const NewtonStats stats = newton.solve(problem, 1);
+  ASSERT_TRUE(stats.converged);
+  EXPECT_FALSE(stats.history.front().fresh);
+  EXPECT_NEAR(problem.x.v[0], 3., 1e-12);
+}
+
+TEST(Newton, ANegligibleCorrectionEndsTheSolveAtTheRoundOffFloor)
+{
+  // r_0 = 1e12 (x0 - 1) at x0 = 1 + 1e-14 is 1e-2, far above the tolerance, but its correction is
+  // 1e-14 of x0: the solve ends there, converged, without another iteration.
+  TwoFields         problem([](const Vec2 &y) { return r2(1e12 * (y.v[0] - 1.), y.v[1] - 2.); },
+                    [](const Vec2 &) { return m2(1e12, 0., 0., 1.); }, vec(1. + 1e-14, 2.));
+  const NewtonStats stats = NewtonSolver<Vec2>(pure_newton(1e-6)).solve(problem, 0);
+  ASSERT_TRUE(stats.converged);
+  EXPECT_EQ(stats.iterations, 0u);
+  ASSERT_EQ(stats.history.size(), 1u);
+  EXPECT_GT(stats.history[0].residual[0], 1e-6);
+  EXPECT_LE(stats.history[0].correction[0], 1e-10);
+}
+
+TEST(Newton, TheLineSearchJudgesATrialWithTheScalesOfItsStart)
+{
+  // atan(x0) = 0 from x0 = 3 with the residual's scale 1 + x0^2: the full step to -9.5 has a
+  // larger |r| but a far larger scale. Judged with its own scale it would pass, and the iterates
+  // run off to x0 = 9e8, where |r| / (1 + x0^2) is below the tolerance: a false convergence.
+  TwoFields problem([](const Vec2 &y) { return r2(std::atan(y.v[0]), y.v[1] - 1.); },
+                    [](const Vec2 &y) { return m2(1. / (1. + y.v[0] * y.v[0]), 0., 0., 1.); },
+                    vec(3., 0.));
+  problem.scale           = [](const Vec2 &y) { return r2(1. + y.v[0] * y.v[0], 1.); };
+  const NewtonStats stats = NewtonSolver<Vec2>(pure_newton(1e-12)).solve(problem, 0);
+  ASSERT_TRUE(stats.converged);
+  EXPECT_NEAR(problem.x.v[0], 0., 1e-10);
+}
+
+TEST(Newton, AStepMustDecreaseTheMeritSufficiently)
+{
+  // Near atan's Newton 2-cycle (x0 = +-1.3917) the full step barely decreases |r|. Armijo's
+  // condition rejects it and the halved step converges in 2 iterations; accepting any decrease
+  // would creep along the cycle (16 iterations).
+  TwoFields         problem([](const Vec2 &y) { return r2(std::atan(y.v[0]), y.v[1] - 1.); },
+                    [](const Vec2 &y) { return m2(1. / (1. + y.v[0] * y.v[0]), 0., 0., 1.); },
+                    vec(1.39174, 1.));
+  const NewtonStats stats = NewtonSolver<Vec2>(pure_newton(1e-12)).solve(problem, 0);
+  ASSERT_TRUE(stats.converged);
+  EXPECT_LE(stats.iterations, 4u);
 }
 
 TEST(Newton, FailuresEndTheSolveUnconverged)

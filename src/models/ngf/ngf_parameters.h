@@ -6,6 +6,7 @@
 #include "core/parameters.h"
 #include "rheology/finite_strain.h"
 #include "rheology/nonlocal_fluidity.h"
+#include "solvers/newton.h"
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -53,12 +54,12 @@ namespace granflow::ngf
   struct SolverParameters
   {
     std::string  fluidity  = "nonlocal";     // nonlocal | local (g = g_loc, Section 6.3 comparison)
-    double       tolerance = 1e-6;           // normalised residuals R_u, R_g (Section 6.1)
-    unsigned int max_iterations      = 12;   // Newton iterations per increment
+    double tolerance = solvers::NewtonOptions{}.tolerance; // normalised R_u, R_g (Section 6.1)
+    unsigned int max_iterations      = solvers::NewtonOptions{}.max_iterations; // per increment
     double       first_increment     = 1e-5; // wall displacement of the first shear increment / d
     double       max_increment       = 0.01; // largest wall displacement per increment / d
     double       growth              = 1.5;  // increment growth after an easy Newton solve
-    bool         reuse_factorization = true; // modified Newton steps while they contract 4x
+    bool reuse_factorization = solvers::NewtonOptions{}.reuse_factorization; // modified Newton
   };
 
   struct OutputParameters
