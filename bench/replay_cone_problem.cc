@@ -7,6 +7,7 @@
 // what was measured so far (exit 128 + the signal). The JSON is printed in every one of these
 // cases.
 #include "core/interrupt.h"
+#include "core/parameters.h"
 #include "solvers/cone_problem.h"
 
 #include <nlohmann/json.hpp>
@@ -214,12 +215,7 @@ main(int argc, char **argv)
       std::string                item;
       while (std::getline(list, item, ','))
         {
-          const auto eq   = item.find('=');
-          const auto trim = [](std::string x) {
-            x.erase(0, x.find_first_not_of(" \t"));
-            x.erase(x.find_last_not_of(" \t") + 1);
-            return x;
-          };
+          const auto        eq   = item.find('=');
           const std::string name = trim(item.substr(0, eq));
           const auto        it   = std::find_if(known.begin(), known.end(),
                                                 [&](const Tunable &k) { return k.name == name; });
@@ -234,13 +230,10 @@ main(int argc, char **argv)
           if (tuned_json.contains(name))
             return bad_input("GRANFLOW_REPLAY_TUNE: " + name + " is set twice");
           const std::string text  = trim(item.substr(eq + 1));
-          double            value = -1.;
+          double            value = -1.; // refused below
           try
             {
-              std::size_t used = 0;
-              value            = std::stod(text, &used);
-              if (used != text.size())
-                value = -1.;
+              value = parse_number(text);
             }
           catch (const std::exception &)
             {

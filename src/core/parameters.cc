@@ -16,17 +16,18 @@
 
 namespace granflow
 {
+  std::string
+  trim(const std::string &s)
+  {
+    const auto b = s.find_first_not_of(" \t\n\r");
+    if (b == std::string::npos)
+      return "";
+    const auto e = s.find_last_not_of(" \t\n\r");
+    return s.substr(b, e - b + 1);
+  }
+
   namespace
   {
-    std::string
-    trim(const std::string &s)
-    {
-      const auto b = s.find_first_not_of(" \t\n\r");
-      if (b == std::string::npos)
-        return "";
-      const auto e = s.find_last_not_of(" \t\n\r");
-      return s.substr(b, e - b + 1);
-    }
 
     /// deal.II's messages span several lines; a user gets them on one.
     std::string

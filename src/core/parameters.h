@@ -98,6 +98,10 @@ namespace granflow
     return parameters;
   }
 
+  /// `s` without leading and trailing blanks (spaces, tabs, line ends).
+  std::string
+  trim(const std::string &s);
+
   /// Splits "a, b, c" into trimmed non-empty items.
   std::vector<std::string>
   split_list(const std::string &list, char separator = ',');

@@ -156,11 +156,12 @@ namespace granflow::dp
       std::map<types::boundary_id, postprocess::BoundaryFlux>
       summarise_fluxes(nlohmann::json &S) const;
       /// Output/Inflow boundary's mean speed U_infinity (positive into the domain), its mean u_x,
-      /// and whether the material leaves through it instead (then Fr and C_D are null).
+      /// whether the channel is jammed (no direction, no dynamic pressure), and whether the
+      /// material leaves through it instead (then Fr and C_D are null). All 0 / false without one.
       struct Inflow
       {
-        double U_inf = 0., u_x = 0., jammed_speed = 0.;
-        bool   reversed = false;
+        double U_inf = 0., u_x = 0.;
+        bool   jammed = false, reversed = false;
       };
       Inflow
       summarise_inflow(nlohmann::json                                                &S,
@@ -1619,21 +1620,22 @@ namespace granflow::dp
         nlohmann::json &S, const std::map<types::boundary_id, postprocess::BoundaryFlux> &flux_of)
     {
       Inflow result;
+      if (prm.output.inflow_boundary.empty())
+        return result;
       // Below jammed_speed the channel is jammed: 1e-5 Re sqrt(g L) (velocities scale with Re,
       // (23)); at the sweep's Re = 100 that is 1e-3, as in scripts/cylinder_drag_sweep.sh (its
       // jammed channels creep at the solver's accuracy in u, its slowest flowing one has 0.43).
-      result.jammed_speed = 1e-5 * prm.rheology.Re;
-      if (prm.output.inflow_boundary.empty())
-        return result;
+      const double jammed_speed = 1e-5 * prm.rheology.Re;
       const auto &inflow = flux_of.at(mesh.id(prm.output.inflow_boundary, prm.case_file));
       result.U_inf       = -inflow.flux / inflow.length;
       result.u_x         = inflow.mean_u_x;
       S["U_infinity"]    = result.U_inf;
+      result.jammed             = std::abs(result.U_inf) < jammed_speed;
       // Material leaving through the named inflow boundary (the flow runs the other way):
       // U_infinity measured there is the outflow's, which the material's dilation makes
       // larger than the inflow's (1.66 times in the mirrored cylinder channel), so Fr and C_D
       // would be wrong with exit 0; they are null, and the boundary where it enters is named.
-      if (result.U_inf < -result.jammed_speed)
+      if (result.U_inf < -jammed_speed)
         {
           std::string entering;
           double      least = 0.;
@@ -1727,11 +1729,9 @@ namespace granflow::dp
         return;
       // The flow runs along +x or -x, as u_x does through the inflow boundary (whichever
       // end of the channel that is, and whichever way through it): the wake is behind the
-      // cylinder along the flow. A jammed channel (|U_inf| below jammed_speed) has no
-      // direction and no dynamic pressure to scale C_D by.
-      const bool jammed =
-          !prm.output.inflow_boundary.empty() && std::abs(inflow.U_inf) < inflow.jammed_speed;
-      const double along = inflow.u_x < 0. && !jammed ? -1. : 1.;
+      // cylinder along the flow. A jammed channel has no direction and no dynamic pressure to
+      // scale C_D by.
+      const double along = inflow.u_x < 0. && !inflow.jammed ? -1. : 1.;
       summarise_cylinder_wake(S, pf, along);
       if (inflow.reversed)
         {
@@ -1743,7 +1743,7 @@ namespace granflow::dp
           const double D = prm.geometry.cylinder_diameter;
           S["Froude"]    = std::abs(inflow.U_inf) / std::sqrt(D);
           // C_D of the drag along the flow
-          if (jammed)
+          if (inflow.jammed)
             {
               S["drag_coefficient"] = nullptr;
               S["jammed"]           = true;
