@@ -408,6 +408,16 @@ check ngf-inner-radius-huge 2 "Inner radius" "$GRANFLOW" run "$SOURCE_DIR/cases/
   --output keep --quiet --set "Geometry/Inner radius=1e20"
 check ngf-element-too-large 2 "Geometry/Element size" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
   --output keep --quiet --set "Geometry/Element size=25"
+# Output/Profile depths: depths below the free surface of the annulus with gravity (H = 15 d).
+gravity_case="$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm"
+check ngf-profile-depths-row 2 "does not apply to Geometry/Shape = annulus row" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet --set "Output/Profile depths=1"
+check ngf-profile-depth-below-floor 2 "expected a depth below the free surface in [0, 15]" "$GRANFLOW" run \
+  "$gravity_case" --output keep --quiet --set "Output/Profile depths=7.5, 16"
+check ngf-profile-depth-not-a-number 2 "'x' in '1, x' is not a number" "$GRANFLOW" run \
+  "$gravity_case" --output keep --quiet --set "Output/Profile depths=1, x"
+check ngf-profile-depth-twice 2 "gives the depth 1 twice" "$GRANFLOW" run \
+  "$gravity_case" --output keep --quiet --set "Output/Profile depths=1, 1.0"
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then pass "ngf nothing lost";
 else fail "ngf bad input overwrote keep/summary.json"; fi
 check ngf-run 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_out --quiet --set "Loading/Wall displacement=0.05"

@@ -247,8 +247,18 @@ namespace granflow::ngf
       {
         std::vector<double> x, v, g, u;
       };
+      /// For the annulus with gravity, along the layer of nodes at height `level` (reference
+      /// configuration); the surface profile is at level = H. Ignored by the column and the row.
       WallProfile
-      wall_profile(const Vector<double> &v) const;
+      wall_profile(const Vector<double> &v, double level) const;
+      /// The annulus with gravity's profile at `depth` below the free surface: the FE field
+      /// between the two layers of nodes around it, linear along the vertical element edges.
+      WallProfile
+      profile_at_depth(const Vector<double> &v, double depth) const;
+      /// Output/Profile depths: profiles/velocity_at_depth_*.csv and their W/d in the summary.
+      void
+      write_profiles_at_depths(nlohmann::json &summary, const Vector<double> &v,
+                               const std::vector<std::string> &header);
       /// The coordinate that runs across the band: z for the column, r for the annuli.
       unsigned int
       along() const
@@ -1606,18 +1616,20 @@ namespace granflow::ngf
 
     template <int dim>
     typename Problem<dim>::WallProfile
-    Problem<dim>::wall_profile(const Vector<double> &v) const
+    Problem<dim>::wall_profile(const Vector<double> &v, const double level) const
     {
       const double d = scale.d;
       // Nodal profile across the shear band, from the driven wall: along the edge x = y = 0 of the
-      // column (depth z), along the bottom of the annulus row, along the free surface of the
-      // annulus (for the slice: on its face Theta = 0, where x = R).
+      // column (depth z), along the bottom of the annulus row, along the layer Z = level of the
+      // annulus (the free surface for level = H; for the slice: on its face Theta = 0, where
+      // x = R).
       auto on_line = [&](const Point<dim> &x) {
         if (column)
           return x[0] < 1e-9 * scale.h && x[1] < 1e-9 * scale.h;
-        if (slice)
-          return std::abs(x[1]) < 1e-9 * scale.h && x[dim - 1] > scale.H * (1. - 1e-9);
-        return row ? x[1] < 1e-9 * scale.H : x[1] > scale.H * (1. - 1e-9);
+        if (row)
+          return x[1] < 1e-9 * scale.H;
+        return std::abs(x[dim - 1] - level) < 1e-9 * scale.H &&
+               (!slice || std::abs(x[1]) < 1e-9 * scale.h);
       };
       struct NodeValues
       {
@@ -1649,6 +1661,55 @@ namespace granflow::ngf
           profile.u.push_back(node.u);
         }
       return profile;
+    }
+
+    template <int dim>
+    typename Problem<dim>::WallProfile
+    Problem<dim>::profile_at_depth(const Vector<double> &v, const double depth) const
+    {
+      // The annulus's mesh is structured: n_2 layers of elements of height H / n_2, each vertical
+      // element edge joins two nodes at the same R, and the Q1 field is linear along it.
+      const double dz = scale.H / scale.n_2;
+      const double z  = scale.H - depth * scale.d;
+      const auto   below =
+          std::min<unsigned int>(static_cast<unsigned int>(std::floor(z / dz)), scale.n_2 - 1);
+      const double t     = std::clamp(z / dz - below, 0., 1.);
+      WallProfile  lower = wall_profile(v, below * dz);
+      if (t < 1e-9)
+        return lower;
+      const WallProfile upper = wall_profile(v, (below + 1) * dz);
+      AssertThrow(upper.x == lower.x, ExcInternalError()); // the same radial nodes
+      for (std::size_t i = 0; i < lower.x.size(); ++i)
+        {
+          lower.v[i] += t * (upper.v[i] - lower.v[i]);
+          lower.g[i] += t * (upper.g[i] - lower.g[i]);
+          lower.u[i] += t * (upper.u[i] - lower.u[i]);
+        }
+      return lower;
+    }
+
+    template <int dim>
+    void
+    Problem<dim>::write_profiles_at_depths(nlohmann::json &summary, const Vector<double> &v,
+                                           const std::vector<std::string> &header)
+    {
+      const std::vector<double> depths = prm.profile_depths();
+      if (depths.empty())
+        return;
+      auto &list = summary["profiles_at_depth"] = nlohmann::json::array();
+      for (const double depth : depths)
+        {
+          const WallProfile p = profile_at_depth(v, depth);
+          const std::string file =
+              "profiles/velocity_at_depth_" + profile_depth_name(depth) + ".csv";
+          out.write_csv(file, header, {p.x, p.v, p.g, p.u});
+          // The inner wall turns rigidly, so v / v_wall = 1 at its node at every depth.
+          const double W = postprocess::shear_band_width(p.x, p.v, 1.);
+          list.push_back(
+              {{"depth_over_d", depth},
+               {"file", file},
+               {"shear_band_width_over_d", std::isfinite(W) ? nlohmann::json(W) : nullptr}});
+        }
     }
 
     template <int dim>
@@ -1806,7 +1867,7 @@ namespace granflow::ngf
     void
     Problem<dim>::postprocess(nlohmann::json &summary, const Vector<double> &v, const bool finished)
     {
-      const WallProfile profile = wall_profile(v);
+      const WallProfile profile = wall_profile(v, scale.H);
       const double      W       = judge_band(summary, profile, finished);
 
       std::vector<std::string> header = {
@@ -1819,6 +1880,8 @@ namespace granflow::ngf
           columns.push_back(compare_with_reference(summary, profile, W));
         }
       out.write_csv("profiles/velocity.csv", header, columns);
+      header.resize(4); // without the reference, which is the surface's
+      write_profiles_at_depths(summary, v, header);
 
       // Quadrature-point fields averaged per element, at the element centres (the line cells only).
       std::vector<double> xc, mu, p, gloc;

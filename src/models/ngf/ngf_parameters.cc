@@ -6,6 +6,7 @@
 #include <cmath>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 namespace granflow::ngf
 {
@@ -178,6 +179,13 @@ namespace granflow::ngf
           Selection("none|finite difference"));
       prm.add_parameter("Write vtu", output.write_vtu, "Write solution-0000.vtu and solution.pvd.",
                         Bool());
+      prm.add_parameter(
+          "Profile depths", output.profile_depths,
+          "Annulus with gravity (quad section or slice): 'depth, ...' in grain diameters below the "
+          "free surface, each in [0, Geometry/Height]; for each, "
+          "profiles/velocity_at_depth_DEPTH.csv holds the radial profile at that depth (as "
+          "profiles/velocity.csv does at the surface) and summary.json its W/d. Empty: none.",
+          Anything());
     }
     prm.leave_subsection();
   }
@@ -320,6 +328,7 @@ namespace granflow::ngf
           "'finite difference' is the 1D reduction of the nonlocal model with zeta = "
           "0 at both walls, which this case is not (Solver/Fluidity = local, or "
           "fluidity boundary conditions): expected none (--set Output/Reference=none)");
+    profile_depths(); // throws on a bad list
   }
 
   std::vector<std::string>
@@ -385,6 +394,60 @@ namespace granflow::ngf
   {
     return parse_named_values(fluidity_bc.dirichlet, case_file,
                               "Fluidity boundary conditions/Dirichlet");
+  }
+
+  std::vector<double>
+  Parameters::profile_depths() const
+  {
+    const std::string  entry = "Output/Profile depths";
+    const std::string &list  = output.profile_depths;
+    check_list_items(list, case_file, entry);
+    const auto items = split_list(list);
+    if (items.empty())
+      return {};
+    if (geometry.shape != "annulus" && geometry.shape != "annulus slice")
+      throw InputError(case_file, entry,
+                       "'" + list + "' does not apply to Geometry/Shape = " + geometry.shape +
+                           ", whose one profile is profiles/velocity.csv: expected it empty");
+    std::vector<double> depths;
+    for (const auto &item : items)
+      {
+        double depth;
+        try
+          {
+            depth = parse_number(item);
+          }
+        catch (const std::invalid_argument &)
+          {
+            throw InputError(case_file, entry,
+                             "'" + item + "' in '" + list +
+                                 "' is not a number: expected depths in grain diameters "
+                                 "separated by commas");
+          }
+        if (!(depth >= 0. && depth <= geometry.height))
+          {
+            std::ostringstream s;
+            s << "'" << item << "' in '" << list
+              << "': expected a depth below the free surface in [0, " << geometry.height
+              << "] grain diameters (Geometry/Height)";
+            throw InputError(case_file, entry, s.str());
+          }
+        for (const double other : depths)
+          if (profile_depth_name(other) == profile_depth_name(depth))
+            throw InputError(case_file, entry,
+                             "'" + list + "' gives the depth " + profile_depth_name(depth) +
+                                 " twice: expected each depth once");
+        depths.push_back(depth);
+      }
+    return depths;
+  }
+
+  std::string
+  profile_depth_name(const double depth)
+  {
+    std::ostringstream s;
+    s << depth;
+    return s.str();
   }
 
   std::vector<std::pair<std::string, double>>

@@ -66,6 +66,7 @@ namespace granflow::ngf
   {
     std::string reference = "none"; // none | finite difference (the 1D reduction (90))
     bool        write_vtu = true;
+    std::string profile_depths; // annulus with gravity: "depth / d, ..." below the free surface
   };
 
   /// SI values of the inputs. The driven wall moves by u_end at speed v_wall (an arc length
@@ -107,6 +108,10 @@ namespace granflow::ngf
     fluidity_dirichlet() const;
     std::vector<std::pair<std::string, double>>
     fluidity_neumann() const;
+    /// Output/Profile depths: depths below the free surface of the annulus with gravity, in grain
+    /// diameters, each in [0, Geometry/Height] and given once; throws InputError naming the entry.
+    std::vector<double>
+    profile_depths() const;
     /// Names of the boundaries of the geometry that a fluidity condition may name.
     std::vector<std::string>
     boundary_names() const;
@@ -114,4 +119,9 @@ namespace granflow::ngf
 
   Parameters
   load_parameters(const std::string &case_file, const std::vector<Override> &overrides = {});
+
+  /// A depth of Output/Profile depths as it names its profile (velocity_at_depth_NAME.csv): the
+  /// stream's default format, 6 significant digits ("7.5", "14.6667").
+  std::string
+  profile_depth_name(double depth);
 } // namespace granflow::ngf
