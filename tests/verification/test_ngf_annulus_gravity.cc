@@ -1,11 +1,12 @@
 // Henann & Kamrin 2016, 6.3: the annulus with gravity (the quad section) against an independent
-// reference. Moment balance about the axis gives each depth the shear stress tau_wall (R_i / r)^2
-// of 6.2, with the pressure phi rho_s G (H - Z) of its depth. Where the flow is rate-independent,
-// the steady solution of (92) scaled by the wall speed does not depend on the pressure, so every
-// depth carries the same profile, the fluidity does not vary with depth, and its vertical diffusion
-// in (23) vanishes: each depth is the 1D reduction (92) at its own hydrostatic pressure. The test
-// computes that reduction by finite differences on a 0.01 d grid (exact Couette kinematics, the
-// same inner and outer radii and wall speed) at six depths and compares the case's
+// reference. Where the flow is rate-independent, the steady solution of (92) scaled by the wall
+// speed does not depend on the pressure. Every depth can then carry the same profile: the fluidity
+// does not vary with depth, so its vertical diffusion in (23) vanishes, and no torque passes
+// between depths (tau_z theta = 0), so the moment balance of each depth gives it the shear stress
+// tau_wall (R_i / r)^2 of 6.2 at its hydrostatic pressure phi rho_s G (H - Z). Each depth is then
+// the 1D reduction (92) at its own pressure. This is an asymptotic reference, not an exact one. The
+// test computes that reduction by finite differences on a 0.01 d grid (exact Couette kinematics,
+// the same inner and outer radii and wall speed) at six depths and compares the case's
 // profiles/velocity_at_depth_*.csv with it: v / v_wall within 0.03 at every node and W / d
 // within 5 %, the tolerances of issue #3 b. Measured: 0.0099 and 1.6 % at most (the annulus row
 // of 6.2 on the same radial mesh differs from (92) by 0.0088). Weighting the element's volume by
