@@ -42,7 +42,17 @@ namespace granflow::solvers
     std::memcpy(M->x, A.value.data(), sizeof(double) * A.value.size());
     impl->factor = cholmod_analyze(M, &c);
     cholmod_factorize(M, impl->factor, &c);
-    const bool ok = c.status == CHOLMOD_OK && impl->factor->minor == n;
+    bool ok = c.status == CHOLMOD_OK && impl->factor->minor == n;
+    // For a small or very sparse matrix CHOLMOD chooses a simplicial LDL' factorisation, which
+    // accepts negative pivots: an indefinite A would pass. Its D (each column's first entry, the
+    // diagonal) must be positive as well.
+    if (ok && !impl->factor->is_ll)
+      {
+        const auto *column_start = static_cast<const int *>(impl->factor->p);
+        const auto *entries      = static_cast<const double *>(impl->factor->x);
+        for (std::size_t j = 0; j < n && ok; ++j)
+          ok = entries[column_start[j]] > 0.;
+      }
     cholmod_free_sparse(&M, &c);
     if (!ok)
       throw NotPositiveDefinite("CholmodSolver: the velocity operator A is not positive definite "

@@ -560,3 +560,38 @@ TEST(ConeSolverStop, ANanIterateNeverReplacesTheBestOne)
   EXPECT_FALSE(monitor2.record(nan, 3.));
   EXPECT_EQ(monitor2.least_residual(), 0.5);
 }
+
+namespace
+{
+  // A velocity operator with a rigid motion left free is singular. The dp model checks the
+  // boundary conditions against the rigid motions first (a Gram matrix); CholmodSolver's own
+  // refusal is the fallback, and the dp model turns it into a bad-input error on `Boundary
+  // conditions`. It must throw NotPositiveDefinite (not factorise, not return garbage) for a
+  // semidefinite matrix, whose null vector is such a motion, and for an indefinite one.
+  TEST(CholmodSolver, RefusesAnOperatorThatIsNotPositiveDefinite)
+  {
+    const std::vector<std::vector<std::vector<double>>> singular = {
+        {{1., 1.}, {1., 1.}},                       // null vector (1, -1)
+        {{2., 0., 0.}, {0., 0., 0.}, {0., 0., 3.}}, // a free unknown
+        {{1., 2.}, {2., 1.}}};                      // indefinite
+    for (const auto &M : singular)
+      {
+        try
+          {
+            CholmodSolver solver(dense_to_csr(M));
+            ADD_FAILURE() << "a matrix that is not positive definite was factorised: " << M[0][0]
+                          << ", " << M[0][1] << ", ...";
+          }
+        catch (const NotPositiveDefinite &e)
+          {
+            EXPECT_NE(std::string(e.what()).find("rigid motion"), std::string::npos) << e.what();
+          }
+      }
+    // and a positive definite neighbour is accepted and solved
+    CholmodSolver       solver(dense_to_csr({{2., 1.}, {1., 2.}}));
+    std::vector<double> x;
+    solver.solve(x, {3., 3.});
+    EXPECT_NEAR(x[0], 1., 1e-14);
+    EXPECT_NEAR(x[1], 1., 1e-14);
+  }
+} // namespace
