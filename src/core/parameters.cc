@@ -13,6 +13,7 @@
 #include <map>
 #include <regex>
 #include <sstream>
+#include <stdexcept>
 
 namespace granflow
 {
@@ -437,8 +438,16 @@ namespace granflow
   double
   parse_number(const std::string &text)
   {
-    std::size_t  used  = 0;
-    const double value = std::stod(text, &used); // throws for no number, out_of_range for 1e400
+    std::size_t used  = 0;
+    double      value = 0.;
+    try
+      {
+        value = std::stod(text, &used); // throws invalid_argument for no number
+      }
+    catch (const std::out_of_range &) // 1e400, and 1e-400, whose underflow stod also refuses
+      {
+        throw std::invalid_argument("out of the range of a double: '" + text + "'");
+      }
     if (!trim(text.substr(used)).empty() || !std::isfinite(value))
       throw std::invalid_argument("not a finite number: '" + text + "'");
     return value;

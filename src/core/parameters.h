@@ -112,7 +112,8 @@ namespace granflow
   check_list_items(const std::string &list, const std::string &file, const std::string &entry);
 
   /// The finite number that is the whole of `text` (spaces around it aside); throws
-  /// std::invalid_argument for anything else ("1abc", "", "nan", "1e400").
+  /// std::invalid_argument for anything else ("1abc", "", "nan", "1e400", and "1e-400", which
+  /// underflows).
   double
   parse_number(const std::string &text);
 

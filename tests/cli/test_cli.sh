@@ -414,10 +414,13 @@ check ngf-profile-depths-row 2 "does not apply to Geometry/Shape = annulus row" 
   "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet --set "Output/Profile depths=1"
 check ngf-profile-depth-below-floor 2 "expected a depth below the free surface in [0, 15]" "$GRANFLOW" run \
   "$gravity_case" --output keep --quiet --set "Output/Profile depths=7.5, 16"
-check ngf-profile-depth-not-a-number 2 "'x' in '1, x' is not a number" "$GRANFLOW" run \
+check ngf-profile-depth-not-a-number 2 "'x' in '1, x' is not a finite number" "$GRANFLOW" run \
   "$gravity_case" --output keep --quiet --set "Output/Profile depths=1, x"
 check ngf-profile-depth-twice 2 "gives the depth 1 twice" "$GRANFLOW" run \
   "$gravity_case" --output keep --quiet --set "Output/Profile depths=1, 1.0"
+# stod refuses an underflow as out of range: one clear message, not an internal error
+check ngf-profile-depth-underflow 2 "'1e-400' in '1e-400' is not a finite number" "$GRANFLOW" run \
+  "$gravity_case" --output keep --quiet --set "Output/Profile depths=1e-400"
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then pass "ngf nothing lost";
 else fail "ngf bad input overwrote keep/summary.json"; fi
 check ngf-run 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_out --quiet --set "Loading/Wall displacement=0.05"

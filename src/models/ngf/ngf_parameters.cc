@@ -415,13 +415,13 @@ namespace granflow::ngf
         double depth;
         try
           {
-            depth = parse_number(item);
+            depth = parse_number(item) + 0.; // + 0: -0 is 0
           }
         catch (const std::invalid_argument &)
           {
             throw InputError(case_file, entry,
                              "'" + item + "' in '" + list +
-                                 "' is not a number: expected depths in grain diameters "
+                                 "' is not a finite number: expected depths in grain diameters "
                                  "separated by commas");
           }
         if (!(depth >= 0. && depth <= geometry.height))
@@ -436,7 +436,9 @@ namespace granflow::ngf
           if (profile_depth_name(other) == profile_depth_name(depth))
             throw InputError(case_file, entry,
                              "'" + list + "' gives the depth " + profile_depth_name(depth) +
-                                 " twice: expected each depth once");
+                                 " twice (its file is named by the first 6 significant digits, "
+                                 "velocity_at_depth_" +
+                                 profile_depth_name(depth) + ".csv): expected each depth once");
         depths.push_back(depth);
       }
     return depths;
