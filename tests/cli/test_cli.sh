@@ -787,4 +787,16 @@ if grep -q "elastic strains that small are lost in the round-off" ngf_stiff/summ
 bad domain-overflow "the domain's area is inf" --set "Geometry/Channel length=1e308" \
   --set "Geometry/Channel width=1e308" --set "Output/Reference=none"
 
+# Output/Profile depths through the command line: a reduced annulus with gravity writes one
+# profile per depth; at depth 0 it is the surface profile of velocity.csv.
+check ngf-profile-depths-run 0 "Results in" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm" \
+  --quiet --output ngf_depths --set "Geometry/Inner radius=20" --set "Geometry/Gap=6" --set "Geometry/Height=3" \
+  --set "Loading/Wall rotation=0.5" --set "Output/Profile depths=0, 1.25" --set "Output/Write vtu=false"
+if [ -s ngf_depths/profiles/velocity_at_depth_1.25.csv ] &&
+  cmp -s <(cut -d, -f1-4 ngf_depths/profiles/velocity.csv) ngf_depths/profiles/velocity_at_depth_0.csv &&
+  /usr/bin/python3 -c "import json, sys; s = json.load(open('ngf_depths/summary.json'))
+sys.exit(not ([p['file'] for p in s['profiles_at_depth']] == ['profiles/velocity_at_depth_0.csv',
+  'profiles/velocity_at_depth_1.25.csv'] and abs(s['wall_pressure_over_hydrostatic'] - 1) < 0.01))"; then
+  pass "ngf profiles at depth written"; else fail "ngf profiles at depth written"; fi
+
 summary

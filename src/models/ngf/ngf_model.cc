@@ -1685,6 +1685,8 @@ namespace granflow::ngf
       if (t < 1e-9)
         return lower;
       const WallProfile upper = wall_profile(v, (below + 1) * dz);
+      if (t > 1. - 1e-9)
+        return upper;
       AssertThrow(upper.x == lower.x, ExcInternalError()); // the same radial nodes
       for (std::size_t i = 0; i < lower.x.size(); ++i)
         {
