@@ -54,6 +54,22 @@ namespace granflow::ngf
       double dU_u = std::numeric_limits<double>::quiet_NaN(), dU_g = dU_u;
     };
 
+    /// The value at distance 0 (the driven wall) of a field known at the element centres at
+    /// distances x: extrapolated linearly from the two nearest. Nothing with fewer than two.
+    std::optional<double>
+    extrapolate_to_wall(const std::vector<double> &x, const std::vector<double> &value)
+    {
+      std::vector<std::pair<double, double>> by_x;
+      for (std::size_t i = 0; i < x.size(); ++i)
+        by_x.emplace_back(x[i], value[i]);
+      std::sort(by_x.begin(), by_x.end());
+      if (by_x.size() < 2)
+        return std::nullopt;
+      const auto [x0, v0] = by_x[0];
+      const auto [x1, v1] = by_x[1];
+      return v0 - x0 * (v1 - v0) / (x1 - x0);
+    }
+
     solvers::NewtonOptions
     newton_options(const SolverParameters &s, Logger &log)
     {
@@ -1836,17 +1852,10 @@ namespace granflow::ngf
       // centres (exact for the column's hydrostatic gradient). mu_wall is the wall shear stress
       // over the applied P_wall, as in the paper; the local ratio tau / p at the wall differs from
       // it where the mean pressure p there is not P_wall (the annulus: about 1.005 P_wall).
-      if (!column && !row)
+      const std::optional<double> extrapolated = extrapolate_to_wall(xc, p);
+      if (!extrapolated || !summary["mu_wall"].is_number())
         return;
-      std::vector<std::pair<double, double>> by_x;
-      for (std::size_t i = 0; i < xc.size(); ++i)
-        by_x.emplace_back(xc[i], p[i]);
-      std::sort(by_x.begin(), by_x.end());
-      if (by_x.size() < 2 || !summary["mu_wall"].is_number())
-        return;
-      const auto [x0, p0]                  = by_x[0];
-      const auto [x1, p1]                  = by_x[1];
-      const double p_wall                  = p0 - x0 * (p1 - p0) / (x1 - x0);
+      const double p_wall                  = *extrapolated;
       const double mu_wall                 = summary["mu_wall"];
       summary["wall_pressure_over_P_wall"] = p_wall;
       summary["mu_wall_local"]             = mu_wall / p_wall;
@@ -1879,9 +1888,11 @@ namespace granflow::ngf
       const WallProfile profile = wall_profile(v, scale.H);
       const double      W       = judge_band(summary, profile, finished);
 
-      std::vector<std::string> header = {
+      // The columns of every profile; velocity.csv adds the surface's reference if asked.
+      const std::vector<std::string> profile_header = {
           column ? "z_over_d" : "r_minus_R_i_over_d", "v_over_v_wall",
           row ? "g_d_sqrt_rho_s_over_P_wall" : "g_sqrt_d_over_G", column ? "u_x_over_d" : "theta"};
+      std::vector<std::string>         header  = profile_header;
       std::vector<std::vector<double>> columns = {profile.x, profile.v, profile.g, profile.u};
       if (reference)
         {
@@ -1889,8 +1900,7 @@ namespace granflow::ngf
           columns.push_back(compare_with_reference(summary, profile, W));
         }
       out.write_csv("profiles/velocity.csv", header, columns);
-      header.resize(4); // without the reference, which is the surface's
-      write_profiles_at_depths(summary, v, header);
+      write_profiles_at_depths(summary, v, profile_header);
 
       // Quadrature-point fields averaged per element, at the element centres (the line cells only).
       std::vector<double> xc, mu, p, gloc;
@@ -1921,9 +1931,10 @@ namespace granflow::ngf
           p.push_back(pp / scale.P_wall);
           gloc.push_back(gl / g_unit());
         }
-      out.write_csv("profiles/stress.csv",
-                    {header[0], "mu", pressure_name(), "g_loc" + header[2].substr(1)},
-                    {xc, mu, p, gloc});
+      out.write_csv(
+          "profiles/stress.csv",
+          {profile_header[0], "mu", pressure_name(), "g_loc" + profile_header[2].substr(1)},
+          {xc, mu, p, gloc});
       if (column || row)
         report_wall_pressure(summary, xc, p, finished);
       else
@@ -1950,10 +1961,10 @@ namespace granflow::ngf
       // as in the flowing band, so is p. Along the driven wall its mean is then the hydrostatic
       // phi rho_s G H / 2 that mu_wall divides the wall's shear stress by. Extrapolated linearly
       // from the two innermost columns of elements.
-      if (xc.size() < 2 || !summary["mu_wall"].is_number())
+      const std::optional<double> extrapolated = extrapolate_to_wall(xc, p_column);
+      if (!extrapolated || !summary["mu_wall"].is_number())
         return;
-      const double p_wall = (p_column[0] - xc[0] * (p_column[1] - p_column[0]) / (xc[1] - xc[0])) /
-                            0.5; // over phi rho_s G H / 2
+      const double p_wall                       = *extrapolated / 0.5; // over phi rho_s G H / 2
       const double mu_wall                      = summary["mu_wall"];
       summary["wall_pressure_over_hydrostatic"] = p_wall;
       summary["mu_wall_local"]                  = mu_wall / p_wall;
