@@ -404,9 +404,14 @@ namespace granflow
       if (const auto names = split_list(o.path, '/');
           !names.empty() && e.detail().find(names.back()) != std::string::npos)
         with += (with.empty() ? " with --set " : ", --set ") + o.path + "=" + o.value;
-    if (with.empty())
-      throw e;
-    throw InputError(case_file + with, e.entry(), e.detail());
+    if (!with.empty())
+      throw InputError(case_file + with, e.entry(), e.detail());
+    // A check may read an entry without naming it, so which override mattered is not known: the
+    // file is named with every override the run had, as context rather than blame.
+    std::string all;
+    for (const auto &o : overrides)
+      all += (all.empty() ? " (run with --set " : ", --set ") + o.path + "=" + o.value;
+    throw InputError(case_file + all + ")", e.entry(), e.detail());
   }
 
   std::vector<std::string>

@@ -69,7 +69,9 @@ namespace granflow
   /// Re-throws `e`; if it is about an entry that an override set, it names that
   /// `--set Section/key=value` instead of the case file, which does not hold the value; if it is
   /// about another entry of `case_file` whose message names entries that overrides set, it names
-  /// the file "with --set ..." those overrides, for the error may come from their values.
+  /// the file "with --set ..." those overrides, for the error may come from their values; about
+  /// another entry of `case_file` otherwise, it names the file "(run with --set ...)" every
+  /// override, since a check may read an entry its message does not name.
   [[noreturn]] void
   rethrow_naming_overrides(const InputError &e, const std::string &case_file,
                            const std::vector<Override> &overrides);

@@ -406,8 +406,11 @@ check ngf-gravity-the-annulus-row-ignores 2 "the annulus row of 6.2 has no gravi
   "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet --set "Material/Gravity=3"
 check ngf-inner-radius-huge 2 "Inner radius" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
   --output keep --quiet --set "Geometry/Inner radius=1e20"
-check ngf-element-too-large 2 "Geometry/Element size" "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" \
-  --output keep --quiet --set "Geometry/Element size=25"
+check ngf-element-too-large 2 "Geometry/Element size=25: entry 'Geometry/Element size': = 25 is larger than the domain: expected at most Geometry/Gap = 20" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet --set "Geometry/Element size=25"
+# ... and when the domain is what shrank, the message names that entry and so its override.
+ngf_bad element-larger-than-depth "linear_shear_gravity.prm with --set Geometry/Depth=0.2: entry 'Geometry/Element size': = 0.333333 is larger than the domain: expected at most Geometry/Depth = 0.2" \
+  --set "Geometry/Depth=0.2"
 # Output/Profile depths: depths below the free surface of the annulus with gravity (H = 15 d).
 gravity_case="$SOURCE_DIR/cases/henann2016/annular_shear_gravity.prm"
 check ngf-profile-depths-row 2 "does not apply to Geometry/Shape = annulus row" "$GRANFLOW" run \
@@ -692,6 +695,11 @@ bad reference-bingham-needs-free-ends "the ends (inlet, outlet) free along the c
 bad error-names-the-set "bingham_poiseuille.prm with --set Boundary conditions/Zero y-velocity=: entry 'Output/Reference'" \
   --set "Output/Write vtu=false" --set "Boundary conditions/Zero y-velocity="
 bad tolerance-too-loose "Solver/Tolerance=1.5: value '1.5' is invalid" --set "Solver/Tolerance=1.5"
+# Session 22: a case file's entry judged with an override its message does not name (the profile
+# line falls off a shortened channel): the file is named with every override, as context.
+bad error-gives-the-sets-as-context \
+  "bingham_poiseuille.prm (run with --set Output/Write vtu=false, --set Geometry/Channel length=0.01): entry 'Output/Profile start'" \
+  --set "Output/Write vtu=false" --set "Geometry/Channel length=0.01"
 # A gravity vector of overflowing length is still a direction (it was taken as (0, 0): no flow).
 check gravity-overflow 0 "only its direction (1, 0) is used" "$GRANFLOW" run "$case_file" \
   --output gravity_big --set "Gravity direction=1e308, 0" --set "Output/Write vtu=false"

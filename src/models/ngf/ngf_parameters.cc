@@ -260,15 +260,20 @@ namespace granflow::ngf
             throw InputError(f, e.entry, s.str());
           }
     }
-    const double shortest = geometry.shape == "shear column" ? geometry.depth
-                            : geometry.shape == "annulus row"
-                                ? geometry.gap
-                                : std::min(geometry.gap, geometry.height);
+    const bool column = geometry.shape == "shear column";
+    const bool by_gap =
+        !column && (geometry.shape == "annulus row" || geometry.gap <= geometry.height);
+    const double shortest = column ? geometry.depth : by_gap ? geometry.gap : geometry.height;
     if (geometry.element_size > shortest)
-      throw InputError(f, "Geometry/Element size",
-                       "= " + std::to_string(geometry.element_size) +
-                           " is larger than the domain (" + std::to_string(shortest) +
-                           " grain diameters)");
+      {
+        std::ostringstream s;
+        s << "= " << geometry.element_size << " is larger than the domain: expected at most "
+          << (column   ? "Geometry/Depth"
+              : by_gap ? "Geometry/Gap"
+                       : "Geometry/Height")
+          << " = " << shortest << " grain diameters";
+        throw InputError(f, "Geometry/Element size", s.str());
+      }
     if (solver.first_increment > solver.max_increment)
       {
         std::ostringstream s;
