@@ -179,8 +179,8 @@ namespace granflow::dp
                         Interval::positive());
       prm.add_parameter("Dump cone problem", s.dump_cone_problem,
                         "If set, the cone problem is written to this file: a name relative to the "
-                        "output directory, or an absolute path (replay with "
-                        "build/bench/replay_cone_problem, docs/solvers.md).",
+                        "output directory, or a path outside it (a path into it is refused; replay "
+                        "with build/bench/replay_cone_problem, docs/solvers.md).",
                         Anything());
     }
     prm.leave_subsection();
