@@ -17,7 +17,8 @@ at the nodes, to show how sensitive the coarse-mesh answer is to that choice; an
 flow rule evaluated with the element-mean fluidity, so that mu does not split between an
 element's Gauss points (docs/ngf.md).
 
-Writes OUT_DIR/galerkin_reduction_column.csv and prints the table. P_WALL (default 6.67) is
+Writes OUT_DIR/galerkin_reduction_column.csv and prints the table (with mu_wall - mu_s relative to
+the FD solution's). P_WALL (default 6.67) is
 P_wall/(phi rho_s G d), for the FD solution, the reduction and the FE runs alike.
   /usr/bin/python3 scripts/ngf_galerkin_reduction.py [BUILD_DIR] [OUT_DIR] [P_WALL]
 Dimensionless units: z~ = z/d, g~ = g sqrt(d/G), p~ = p/(rho_s G d), v~ = v/sqrt(G d), so that
@@ -175,7 +176,7 @@ def main():
 
     res = {}
     hs = [('1', 1.0), ('2/3', 2 / 3), ('5/9', 5 / 9), ('1/3', 1 / 3), ('2/9', 2 / 9),
-          ('1/9', 1 / 9), ('1/90', 1 / 90)]
+          ('1/9', 1 / 9), ('1/27', 1 / 27), ('1/90', 1 / 90)]
     for lab, hd in hs:
         s = galerkin_solve(hd, x0_from(gfd, fd['mu_wall']))
         s['W'] = width(s['z'], s['v'])
@@ -204,18 +205,21 @@ def main():
     out = sys.argv[2] if len(sys.argv) > 2 else "results/henann2016"
     os.makedirs(out, exist_ok=True)
     csv = open(os.path.join(out, "galerkin_reduction_column.csv"), "w")
-    csv.write("solver,h_over_d,v_at_1d,v_at_2d,v_at_3d,v_at_4d,max_abs_dv_vs_fd,mu_wall,W_over_d,g_wall_sqrt_d_over_G\n")
+    csv.write("solver,h_over_d,v_at_1d,v_at_2d,v_at_3d,v_at_4d,max_abs_dv_vs_fd,mu_wall,W_over_d,g_wall_sqrt_d_over_G,"
+              "mu_wall_minus_mu_s_relative_difference\n")
 
     def row(name, s):
         vz = [np.interp(zz, s['z'], s['v']) for zz in (1, 2, 3, 4)]
         dmax = np.max(np.abs(s['v'] - vfd(s['z'])))
+        # the rate-dependent part mu_wall - mu_s against the FD solution's (docs/ngf.md)
+        drate = (s['mu_wall'] - MU_S) / (fd['mu_wall'] - MU_S) - 1
         solver, _, h = name.partition(" h=")
         csv.write(f"{solver.strip()},{h or 0},{','.join(repr(float(x)) for x in vz)},{dmax!r},{s['mu_wall']!r},"
-                  f"{s['W']!r},{s['g'][0]!r}\n")
+                  f"{s['W']!r},{s['g'][0]!r},{drate!r}\n")
         return (f"{name:<22s} " + " ".join(f"{x:7.4f}" for x in vz) +
-                f"  {dmax:7.4f}  {s['mu_wall']:.5f}  {s['W']:6.4f}  {s['g'][0]:.4e}")
+                f"  {dmax:7.4f}  {s['mu_wall']:.5f}  {100 * drate:+6.1f}%  {s['W']:6.4f}  {s['g'][0]:.4e}")
 
-    hdr = f"{'':22s} {'v(1)':>7s} {'v(2)':>7s} {'v(3)':>7s} {'v(4)':>7s}  {'max|dv|':>7s}  mu_wall  W/d     g_wall"
+    hdr = f"{'':22s} {'v(1)':>7s} {'v(2)':>7s} {'v(3)':>7s} {'v(4)':>7s}  {'max|dv|':>7s}  mu_wall  d(mu-mu_s)  W/d     g_wall"
     print(hdr)
     print(row('FD (dz=0.01)', dict(z=fd['z'], v=fd['v'], g=fd['g'], mu_wall=fd['mu_wall'], W=fd['W'])))
     for lab, hd in hs:

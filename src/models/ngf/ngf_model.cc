@@ -1178,7 +1178,7 @@ namespace granflow::ngf
                          ? ": rerun it to the end before using mu_wall, W/d or the profiles as "
                            "steady results"
                      : slice ? ": run further (Loading/Wall rotation) before using mu_wall, W/d or "
-                               "the profiles as steady results; beyond about 6 degrees the slice "
+                               "the profiles as steady results; beyond about 5 degrees the slice "
                                "drifts from the quad section (docs/ngf.md), which is the one for "
                                "long runs"
                              : ": run further (Loading/Wall displacement or Wall rotation) before "
