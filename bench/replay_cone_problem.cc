@@ -102,7 +102,10 @@ namespace
             tunable(ip, ipg, "short_step", &I::short_step),
             tunable(ip, ipg, "short_steps", &I::short_steps),
             tunable(ip, ipg, "stagnation_iterations", &I::stagnation_iterations),
-            tunable(ip, ipg, "stagnation_ratio", &I::stagnation_ratio)};
+            tunable(ip, ipg, "stagnation_ratio", &I::stagnation_ratio),
+            tunable(ip, ipg, "reduced_system", &I::reduced_system),
+            tunable(ip, ipg, "refinement_steps", &I::refinement_steps),
+            tunable(ip, ipg, "reduced_accuracy", &I::reduced_accuracy)};
   }
 
   int

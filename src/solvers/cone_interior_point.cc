@@ -15,10 +15,14 @@
 //   [ A        -H^T D ] [du]   [ l + H^T D z - A u        ]
 //   [ -B H     -W^-2  ] [dz] = [ r_z - W^-1 c             ],   B = D (I + e_N sigma^T),
 // sigma = (0, mu gamma_T / ||gamma_T||), r_z = D gamma_hat(u) - sl, and W dsl + W^-1 dz = c. With
-// sigma = 0 the matrix is symmetric quasi-definite. This augmented system is factorised (UMFPACK,
-// diagonal pivots) rather than reduced to A + H^T D W^2 B H: near the solution W^2 spans many
-// decades and the reduced system loses the accuracy the last decades of the residual need
-// (measured: the reduced form stalls at a residual of 1.3e-6 on the 673-vertex silo).
+// sigma = 0 the matrix is symmetric quasi-definite. It is factorised as it is (UMFPACK, diagonal
+// pivots). As an experiment (InteriorPointTunables::reduced_system) each step eliminates the
+// stress, dz = -W^2 (r2 + B H du), and factorises the velocity block A + H^T D W^2 B H (UMFPACK),
+// about half the cost of the augmented matrix on the silo's meshes. Near the solution W^2 spans
+// many decades and that reduced solve loses accuracy (alone it stalls at 1.9e-6 on the 673-vertex
+// silo), so it is refined on the augmented system until the componentwise backward error is below
+// reduced_accuracy, and once refinement cannot get there the augmented matrix itself is factorised
+// for the rest of the solve.
 #include "rheology/drucker_prager.h"
 #include "solvers/cone_problem.h"
 #include "solvers/solve_monitor.h"
@@ -202,6 +206,8 @@ namespace granflow::solvers
                 "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
                 "(use the Cadoux fixed point otherwise)");
         build_pattern();
+        if (reduced())
+          build_reduced_pattern();
       }
 
       ConeSolverStats
@@ -326,11 +332,12 @@ namespace granflow::solvers
         return r;
       }
 
+      /// Point i's block of x, whose points start at `offset`.
       Block
-      block(const Vector &x, const std::size_t i) const
+      block(const Vector &x, const std::size_t i, const std::size_t offset = 0) const
       {
         Block b;
-        std::copy_n(x.begin() + i * n, n, b.begin());
+        std::copy_n(x.begin() + offset + i * n, n, b.begin());
         return b;
       }
 
@@ -449,6 +456,191 @@ namespace granflow::solvers
           }
       }
 
+      bool
+      reduced() const
+      {
+        return options.interior_point.reduced_system != 0.;
+      }
+
+      /// The pattern of the reduced Newton matrix R = A + sum_i H_i^T D W_i^2 B_i H_i (velocity
+      /// unknowns only): A's, and every pair of a point's columns; and where A's entries and each
+      /// point's |cols|^2 products go in R.value.
+      void
+      build_reduced_pattern()
+      {
+        std::vector<std::vector<int>> rows(n_u);
+        for (std::size_t r = 0; r < n_u; ++r)
+          for (int k = data.A.row_start[r]; k < data.A.row_start[r + 1]; ++k)
+            rows[r].push_back(data.A.column[k]);
+        for (const auto &cols : point_columns)
+          for (const int r : cols)
+            rows[r].insert(rows[r].end(), cols.begin(), cols.end());
+        R.n_rows = R.n_cols = n_u;
+        R.row_start.assign(1, 0);
+        R.column.clear();
+        for (auto &row : rows)
+          {
+            std::sort(row.begin(), row.end());
+            row.erase(std::unique(row.begin(), row.end()), row.end());
+            R.column.insert(R.column.end(), row.begin(), row.end());
+            R.row_start.push_back(static_cast<int>(R.column.size()));
+          }
+        R.value.assign(R.column.size(), 0.);
+        const auto position = [&](const int r, const int c) {
+          const auto first = R.column.begin() + R.row_start[r];
+          const auto last  = R.column.begin() + R.row_start[r + 1];
+          return static_cast<int>(std::lower_bound(first, last, c) - R.column.begin());
+        };
+        A_position.clear();
+        for (std::size_t r = 0; r < n_u; ++r)
+          for (int k = data.A.row_start[r]; k < data.A.row_start[r + 1]; ++k)
+            A_position.push_back(position(static_cast<int>(r), data.A.column[k]));
+        point_position_start.assign(1, 0);
+        point_position.clear();
+        for (const auto &cols : point_columns)
+          {
+            for (const int r : cols)
+              for (const int c : cols)
+                point_position.push_back(position(r, c));
+            point_position_start.push_back(point_position.size());
+          }
+      }
+
+      /// M_i = D W_i^2 B_i, B_i = D (I + e_N sigma_i^T): the point's block of the reduced matrix
+      /// between H_i^T and H_i.
+      Matrix
+      reduced_block(const std::size_t i, const Block &sigma, const Matrix &W2) const
+      {
+        Matrix M{};
+        for (std::size_t a = 0; a < n; ++a)
+          {
+            const double Da = a == 0 ? 1. : data.mu[i];
+            for (std::size_t b = 0; b < n; ++b)
+              { // (D W2 B)_ab = D_a (W2_a0 B_0b + W2_ab mu) with B_0b = delta_0b + sigma_b
+                double v = W2[a][0] * ((b == 0 ? 1. : 0.) + sigma[b]);
+                if (b > 0)
+                  v += W2[a][b] * data.mu[i];
+                M[a][b] = Da * v;
+              }
+          }
+        return M;
+      }
+
+      /// Factorises the Newton matrix: K (augmented, whose constraint rows the caller has filled)
+      /// or R (reduced, from sigma and W^2 = `W2`).
+      void
+      factorize(const std::vector<Block> &sigma, const std::vector<Matrix> &W2)
+      {
+        if (!reduced() || augmented_from_now)
+          {
+            lu.factorize(K);
+            ++factorizations;
+            return;
+          }
+        reduced_W2    = W2;
+        reduced_sigma = sigma;
+        std::fill(R.value.begin(), R.value.end(), 0.);
+        for (std::size_t k = 0; k < A_position.size(); ++k)
+          R.value[A_position[k]] += data.A.value[k];
+        std::vector<double> G;
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            const Matrix      M  = reduced_block(i, sigma[i], W2[i]);
+            const std::size_t nc = point_columns[i].size();
+            const double     *Hi = point_H[i].data();
+            G.assign(n * nc, 0.); // G = M H_i
+            for (std::size_t a = 0; a < n; ++a)
+              for (std::size_t b = 0; b < n; ++b)
+                if (M[a][b] != 0.)
+                  for (std::size_t c = 0; c < nc; ++c)
+                    G[a * nc + c] += M[a][b] * Hi[b * nc + c];
+            const int *pos = &point_position[point_position_start[i]];
+            for (std::size_t r = 0; r < nc; ++r) // H_i^T G
+              for (std::size_t c = 0; c < nc; ++c)
+                {
+                  double v = 0.;
+                  for (std::size_t a = 0; a < n; ++a)
+                    v += Hi[a * nc + r] * G[a * nc + c];
+                  R.value[pos[r * nc + c]] += v;
+                }
+          }
+        lu_reduced.factorize(R);
+        ++factorizations;
+      }
+
+      /// x = K^-1 rhs. Reduced: the constraint rows -B H du - W^-2 dz = r2 give
+      /// dz = -W^2 (r2 + B H du), and R du = r1 - H^T D W^2 r2; then `refinement_steps` steps of
+      /// iterative refinement on K itself, whose residual the elimination does not control.
+      void
+      linear_solve(Vector &x, const Vector &rhs)
+      {
+        if (!reduced() || augmented_from_now)
+          {
+            lu.solve(x, rhs);
+            return;
+          }
+        const auto eliminate = [&](Vector &y, const Vector &b) {
+          Vector t(m), Ht, r1(b.begin(), b.begin() + n_u), du, Hdu;
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              const Block w = S::apply(reduced_W2[i], block(b, i, n_u));
+              for (std::size_t a = 0; a < n; ++a)
+                t[i * n + a] = (a == 0 ? 1. : data.mu[i]) * w[a];
+            }
+          data.H.Tvmult(Ht, t);
+          for (std::size_t k = 0; k < n_u; ++k)
+            r1[k] -= Ht[k];
+          lu_reduced.solve(du, r1);
+          data.H.vmult(Hdu, du);
+          y.assign(n_u + m, 0.);
+          std::copy(du.begin(), du.end(), y.begin());
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              Block       v = block(b, i, n_u);
+              const Block h = block(Hdu, i);
+              v[0] += h[0];
+              for (std::size_t a = 1; a < n; ++a)
+                {
+                  v[0] += reduced_sigma[i][a] * h[a];
+                  v[a] += data.mu[i] * h[a];
+                }
+              const Block w = S::apply(reduced_W2[i], v);
+              for (std::size_t a = 0; a < n; ++a)
+                y[n_u + i * n + a] = -w[a];
+            }
+        };
+        eliminate(x, rhs);
+        Vector Kx, correction, residual(n_u + m);
+        for (unsigned int step = 0;; ++step)
+          {
+            K.vmult(Kx, x);
+            for (std::size_t k = 0; k < n_u + m; ++k)
+              residual[k] = rhs[k] - Kx[k];
+            // componentwise backward error (Oettli-Prager): |r_k| / (|K| |x| + |rhs|)_k
+            double relative = 0.;
+            for (std::size_t r = 0; r < n_u + m; ++r)
+              {
+                double scale = std::abs(rhs[r]);
+                for (int k = K.row_start[r]; k < K.row_start[r + 1]; ++k)
+                  scale += std::abs(K.value[k] * x[K.column[k]]);
+                if (scale > 0.)
+                  relative = std::max(relative, std::abs(residual[r]) / scale);
+              }
+            if (relative <= options.interior_point.reduced_accuracy)
+              return;
+            if (step == options.interior_point.refinement_steps)
+              break;
+            eliminate(correction, residual);
+            for (std::size_t k = 0; k < n_u + m; ++k)
+              x[k] += correction[k];
+          }
+        // The reduced system has lost the accuracy the step needs: the augmented one from now on.
+        augmented_from_now = true;
+        lu.factorize(K);
+        ++factorizations;
+        lu.solve(x, rhs);
+      }
+
       /// gamma(u) = H u + k, s(u), the stress lambda = D z, the residuals r_x = l + H^T lambda - A
       /// u and r_z = D (gamma + s e_N) - sl, and the duality gap sl . z.
       void
@@ -507,9 +699,8 @@ namespace granflow::solvers
         std::copy(data.l.begin(), data.l.end(), rhs.begin());
         for (std::size_t k = 0; k < m; ++k)
           rhs[n_u + k] = D(k) * data.k[k];
-        lu.factorize(K);
-        ++factorizations;
-        lu.solve(x, rhs);
+        factorize(sigma, identity);
+        linear_solve(x, rhs);
         u.assign(x.begin(), x.begin() + n_u);
         evaluate(u, Vector(m, 0.), Vector(m, 0.)); // r_z = D gamma_hat(u)
         sl = r_z;
@@ -553,14 +744,17 @@ namespace granflow::solvers
         fill_constraint_rows(sigma, W_inv2);
         try
           {
-            lu.factorize(K);
+            std::vector<Matrix> W2;
+            if (reduced())
+              for (std::size_t i = 0; i < n_points; ++i)
+                W2.push_back(S::multiply(W[i], W[i]));
+            factorize(sigma, W2);
           }
         catch (const std::runtime_error &e)
           {
             factorization_failure = e.what(); // named in the stall reason
             return 0.;
           }
-        ++factorizations;
 
         Vector du, dsl(m), dz(m), rhs(n_u + m), x;
         // Solves for the complementarity right-hand side rc: W dsl + W^-1 dz = lambda \ rc.
@@ -573,7 +767,7 @@ namespace granflow::solvers
               for (std::size_t a = 0; a < n; ++a)
                 rhs[n_u + i * n + a] = r_z[i * n + a] - W_inv_c[i][a];
             }
-          lu.solve(x, rhs);
+          linear_solve(x, rhs);
           du.assign(x.begin(), x.begin() + n_u);
           std::copy(x.begin() + n_u, x.end(), dz.begin());
           // dsl = W^-1 c - W^-2 dz
@@ -649,6 +843,15 @@ namespace granflow::solvers
       std::vector<std::vector<double>> point_H;
       CsrMatrix                        K;
       UmfpackSolver                    lu;
+      // The reduced system (InteriorPointTunables::reduced_system): R, where A's entries and each
+      // point's products go in it, its factorisation, and the W^2 and sigma it was built from.
+      CsrMatrix                        R;
+      std::vector<int>                 A_position, point_position;
+      std::vector<std::size_t>         point_position_start;
+      UmfpackSolver                    lu_reduced{true};
+      std::vector<Matrix>              reduced_W2;
+      std::vector<Block>               reduced_sigma;
+      bool                             augmented_from_now = false;
       unsigned int                     factorizations = 0;
       std::string                      factorization_failure; // UMFPACK's message, if it failed
       Vector                           gamma_u, lambda_z, r_x, r_z; // set by evaluate()

@@ -326,6 +326,51 @@ TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
     EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6);
 }
 
+TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
+{
+  // The Newton step solved through the velocity block with the stress eliminated (the
+  // experimental reduced_system) or through the augmented matrix (the default): the same directions
+  // up to rounding, so the same iterations and, to the tolerance, the same solution. A reduced
+  // solve whose backward error cannot be brought within reduced_accuracy hands over to the
+  // augmented matrix; with an unreachable accuracy that happens at the first solve, and every
+  // iterate is then the augmented path's, bit for bit.
+  const ConeProblemData data = coupled_random_problem();
+  const auto            run  = [&](const double reduced, const double accuracy,
+                       const unsigned int refinement_steps = 3,
+                       const unsigned int iterations       = 200) {
+    ConeSolverOptions options;
+    options.method                          = ConeMethod::interior_point;
+    options.tolerance                       = 1e-7;
+    options.max_outer_iterations            = iterations;
+    options.interior_point.reduced_system   = reduced;
+    options.interior_point.reduced_accuracy = accuracy;
+    options.interior_point.refinement_steps = refinement_steps;
+    ConeSolution solution;
+    const auto   stats = solve_cone_problem(data, options, solution);
+    EXPECT_TRUE(stats.converged || iterations < 200);
+    return std::make_pair(stats, solution);
+  };
+  const auto [augmented_stats, augmented] = run(0., 1e-14);
+  const auto [reduced_stats, reduced]     = run(1., 1e-14);
+  const auto [handed_stats, handed_over]  = run(1., -1.);
+  // The elimination alone, unrefined, over the first 5 iterations, while W^2 spans few decades.
+  const auto [early_stats, early] = run(0., 1., 3, 5);
+  const auto [raw_stats, raw]     = run(1., 1., 0, 5);
+  // Rounding differs, and near the end of the path, where the complementarity is 1e-14, it moves
+  // the iterates at the level of the residual (5.1e-8 and 7.3e-8 here): u agrees to 1e-7.
+  EXPECT_EQ(reduced_stats.outer_iterations, augmented_stats.outer_iterations);
+  for (std::size_t i = 0; i < augmented.u.size(); ++i)
+    {
+      EXPECT_NEAR(reduced.u[i], augmented.u[i], 1e-7);
+      EXPECT_NEAR(raw.u[i], early.u[i], 1e-10);
+    }
+  EXPECT_EQ(handed_stats.outer_iterations, augmented_stats.outer_iterations);
+  EXPECT_EQ(handed_stats.residual, augmented_stats.residual);
+  EXPECT_EQ(handed_over.u, augmented.u);
+  // one factorisation more: the reduced one of the first solve, before the hand-over
+  EXPECT_EQ(handed_stats.operator_applications, augmented_stats.operator_applications + 1);
+}
+
 TEST(ConeInteriorPoint, ItsStallRulesAreTheOptionsTunables)
 {
   // The coupled problem converges in about 20 iterations with the default tunables; each stall
