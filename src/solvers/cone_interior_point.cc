@@ -15,14 +15,13 @@
 //   [ A        -H^T D ] [du]   [ l + H^T D z - A u        ]
 //   [ -B H     -W^-2  ] [dz] = [ r_z - W^-1 c             ],   B = D (I + e_N sigma^T),
 // sigma = (0, mu gamma_T / ||gamma_T||), r_z = D gamma_hat(u) - sl, and W dsl + W^-1 dz = c. With
-// sigma = 0 the matrix is symmetric quasi-definite. It is factorised as it is (UMFPACK, diagonal
-// pivots). As an experiment (InteriorPointTunables::reduced_system) each step eliminates the
-// stress, dz = -W^2 (r2 + B H du), and factorises the velocity block A + H^T D W^2 B H (UMFPACK),
-// about half the cost of the augmented matrix on the silo's meshes. Near the solution W^2 spans
-// many decades and that reduced solve loses accuracy (alone it stalls at 1.9e-6 on the 673-vertex
-// silo), so it is refined on the augmented system until the componentwise backward error is below
-// reduced_accuracy, and once refinement cannot get there the augmented matrix itself is factorised
-// for the rest of the solve.
+// sigma = 0 the matrix is symmetric quasi-definite. By default (InteriorPointTunables::
+// reduced_system) each step eliminates the stress, dz = -W^2 (r2 + B H du), and factorises the
+// velocity block A + H^T D W^2 B H (UMFPACK), about half the cost of the augmented matrix on the
+// silo's meshes. Near the solution W^2 spans many decades and that reduced solve loses accuracy
+// (alone it stalls at 1.9e-6 on the 673-vertex silo), so it is refined on the augmented system
+// until the componentwise backward error is below reduced_accuracy, and once refinement cannot
+// get there the augmented matrix itself is factorised (diagonal pivots) for the rest of the solve.
 #include "rheology/drucker_prager.h"
 #include "solvers/cone_problem.h"
 #include "solvers/solve_monitor.h"

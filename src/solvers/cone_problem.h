@@ -106,12 +106,12 @@ namespace granflow::solvers
     unsigned int short_steps           = 5;
     unsigned int stagnation_iterations = 50;
     double       stagnation_ratio      = 0.9;
-    /// 0: each Newton system is solved with the augmented matrix [A, -H^T D; -B H, -W^-2]. 1 (an
-    /// experiment, docs/solvers.md): through its velocity block A + H^T D W^2 B H, the stress
-    /// eliminated, then refined on the augmented system (at most `refinement_steps` steps) until
-    /// its componentwise backward error is at most `reduced_accuracy`; where that fails, the
-    /// augmented matrix is factorised instead, for that solve and every later one.
-    double       reduced_system   = 0.;
+    /// 1: each Newton system is solved through its velocity block A + H^T D W^2 B H, the stress
+    /// eliminated, then refined on the augmented system [A, -H^T D; -B H, -W^-2] (at most
+    /// `refinement_steps` steps) until its componentwise backward error is at most
+    /// `reduced_accuracy`; where that fails, the augmented matrix is factorised instead, for that
+    /// solve and every later one. 0: the augmented matrix throughout. (docs/solvers.md)
+    double       reduced_system   = 1.;
     unsigned int refinement_steps = 3;
     double       reduced_accuracy = 1e-14;
   };

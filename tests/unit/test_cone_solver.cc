@@ -328,8 +328,8 @@ TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
 
 TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
 {
-  // The Newton step solved through the velocity block with the stress eliminated (the
-  // experimental reduced_system) or through the augmented matrix (the default): the same directions
+  // The Newton step solved through the velocity block with the stress eliminated (the default)
+  // or through the augmented matrix: the same directions
   // up to rounding, so the same iterations and, to the tolerance, the same solution. A reduced
   // solve whose backward error cannot be brought within reduced_accuracy hands over to the
   // augmented matrix; with an unreachable accuracy that happens at the first solve, and every
