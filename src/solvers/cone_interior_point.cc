@@ -206,7 +206,10 @@ namespace granflow::solvers
                 "(use the Cadoux fixed point otherwise)");
         build_pattern();
         if (reduced())
-          build_reduced_pattern();
+          {
+            build_reduced_pattern();
+            lu_reduced.set_refinement_steps(0); // refined on the augmented system instead
+          }
       }
 
       ConeSolverStats
@@ -346,7 +349,7 @@ namespace granflow::solvers
         std::copy(b.begin(), b.end(), x.begin() + i * n);
       }
 
-      /// The Newton matrix [A, -H^T D; B H, W^-2] in CSR. Its pattern is fixed: the rows of a
+      /// The Newton matrix [A, -H^T D; -B H, -W^-2] in CSR. Its pattern is fixed: the rows of a
       /// constraint point all take the union of the columns of the point's rows of H.
       void
       build_pattern()
@@ -462,8 +465,9 @@ namespace granflow::solvers
       }
 
       /// The pattern of the reduced Newton matrix R = A + sum_i H_i^T D W_i^2 B_i H_i (velocity
-      /// unknowns only): A's, and every pair of a point's columns; and where A's entries and each
-      /// point's |cols|^2 products go in R.value.
+      /// unknowns only): A's, and every pair of a point's columns; and where A's entries go in
+      /// R.value (a point's products are placed by merging its sorted columns with R's rows, which
+      /// costs no memory: |cols|^2 positions per point would, 1.4 GB on a large P1 mesh).
       void
       build_reduced_pattern()
       {
@@ -494,15 +498,6 @@ namespace granflow::solvers
         for (std::size_t r = 0; r < n_u; ++r)
           for (int k = data.A.row_start[r]; k < data.A.row_start[r + 1]; ++k)
             A_position.push_back(position(static_cast<int>(r), data.A.column[k]));
-        point_position_start.assign(1, 0);
-        point_position.clear();
-        for (const auto &cols : point_columns)
-          {
-            for (const int r : cols)
-              for (const int c : cols)
-                point_position.push_back(position(r, c));
-            point_position_start.push_back(point_position.size());
-          }
       }
 
       /// M_i = D W_i^2 B_i, B_i = D (I + e_N sigma_i^T): the point's block of the reduced matrix
@@ -553,17 +548,40 @@ namespace granflow::solvers
                 if (M[a][b] != 0.)
                   for (std::size_t c = 0; c < nc; ++c)
                     G[a * nc + c] += M[a][b] * Hi[b * nc + c];
-            const int *pos = &point_position[point_position_start[i]];
-            for (std::size_t r = 0; r < nc; ++r) // H_i^T G
-              for (std::size_t c = 0; c < nc; ++c)
-                {
-                  double v = 0.;
-                  for (std::size_t a = 0; a < n; ++a)
-                    v += Hi[a * nc + r] * G[a * nc + c];
-                  R.value[pos[r * nc + c]] += v;
-                }
+            const auto &cols = point_columns[i];
+            for (std::size_t r = 0; r < nc; ++r) // H_i^T G into row cols[r], merged with it
+              {
+                int k = R.row_start[cols[r]];
+                for (std::size_t c = 0; c < nc; ++c)
+                  {
+                    while (R.column[k] < cols[c])
+                      ++k;
+                    double v = 0.;
+                    for (std::size_t a = 0; a < n; ++a)
+                      v += Hi[a * nc + r] * G[a * nc + c];
+                    R.value[k] += v;
+                  }
+              }
           }
-        lu_reduced.factorize(R);
+        try
+          {
+            lu_reduced.factorize(R);
+            ++factorizations;
+          }
+        catch (const std::runtime_error &)
+          {
+            hand_over(); // K may well factorise where R does not
+          }
+      }
+
+      /// From now on the augmented matrix K (whose constraint rows the caller has filled) is
+      /// factorised, and the reduced factorisation is freed.
+      void
+      hand_over()
+      {
+        augmented_from_now = true;
+        lu_reduced.release();
+        lu.factorize(K);
         ++factorizations;
       }
 
@@ -616,14 +634,17 @@ namespace granflow::solvers
             for (std::size_t k = 0; k < n_u + m; ++k)
               residual[k] = rhs[k] - Kx[k];
             // componentwise backward error (Oettli-Prager): |r_k| / (|K| |x| + |rhs|)_k
+            // (a row whose scale is 0 has a residual of exactly 0); a non-finite x fails
             double relative = 0.;
-            for (std::size_t r = 0; r < n_u + m; ++r)
+            for (std::size_t r = 0; r < n_u + m && relative <= 1.; ++r)
               {
                 double scale = std::abs(rhs[r]);
                 for (int k = K.row_start[r]; k < K.row_start[r + 1]; ++k)
                   scale += std::abs(K.value[k] * x[K.column[k]]);
-                if (scale > 0.)
-                  relative = std::max(relative, std::abs(residual[r]) / scale);
+                const double ratio = scale > 0. ? std::abs(residual[r]) / scale : residual[r];
+                relative           = std::isfinite(ratio) && std::isfinite(scale)
+                                         ? std::max(relative, std::abs(ratio))
+                                         : std::numeric_limits<double>::infinity();
               }
             if (relative <= options.interior_point.reduced_accuracy)
               return;
@@ -634,9 +655,7 @@ namespace granflow::solvers
               x[k] += correction[k];
           }
         // The reduced system has lost the accuracy the step needs: the augmented one from now on.
-        augmented_from_now = true;
-        lu.factorize(K);
-        ++factorizations;
+        hand_over();
         lu.solve(x, rhs);
       }
 
@@ -744,7 +763,7 @@ namespace granflow::solvers
         try
           {
             std::vector<Matrix> W2;
-            if (reduced())
+            if (reduced() && !augmented_from_now)
               for (std::size_t i = 0; i < n_points; ++i)
                 W2.push_back(S::multiply(W[i], W[i]));
             factorize(sigma, W2);
@@ -757,6 +776,8 @@ namespace granflow::solvers
 
         Vector du, dsl(m), dz(m), rhs(n_u + m), x;
         // Solves for the complementarity right-hand side rc: W dsl + W^-1 dz = lambda \ rc.
+        // False if the augmented matrix, factorised when the reduced solve hands over, could not
+        // be.
         const auto direction = [&](const std::vector<Block> &rc) {
           std::copy(r_x.begin(), r_x.end(), rhs.begin());
           std::vector<Block> W_inv_c(n_points); // W^-1 c with c = lambda \ rc
@@ -766,7 +787,15 @@ namespace granflow::solvers
               for (std::size_t a = 0; a < n; ++a)
                 rhs[n_u + i * n + a] = r_z[i * n + a] - W_inv_c[i][a];
             }
-          linear_solve(x, rhs);
+          try
+            {
+              linear_solve(x, rhs);
+            }
+          catch (const std::runtime_error &e)
+            {
+              factorization_failure = e.what(); // named in the stall reason
+              return false;
+            }
           du.assign(x.begin(), x.begin() + n_u);
           std::copy(x.begin() + n_u, x.end(), dz.begin());
           // dsl = W^-1 c - W^-2 dz
@@ -776,6 +805,7 @@ namespace granflow::solvers
               for (std::size_t a = 0; a < n; ++a)
                 dsl[i * n + a] = W_inv_c[i][a] - w[a];
             }
+          return true;
         };
 
         const double       tau = gap / static_cast<double>(n_points);
@@ -786,7 +816,8 @@ namespace granflow::solvers
             for (double &v : rc[i])
               v = -v;
           }
-        direction(rc);
+        if (!direction(rc))
+          return 0.;
         const double t_affine   = max_step(sl, dsl, z, dz);
         double       gap_affine = 0.;
         for (std::size_t k = 0; k < m; ++k)
@@ -801,7 +832,8 @@ namespace granflow::solvers
               rc[i][a] -= second[a];
             rc[i][0] += centering * tau;
           }
-        direction(rc);
+        if (!direction(rc))
+          return 0.;
         double t = std::min(1., options.interior_point.step_fraction * max_step(sl, dsl, z, dz));
         // Rounding can still put a block on the boundary: halve until every block is interior.
         const auto interior = [&](const double t) {
@@ -845,8 +877,7 @@ namespace granflow::solvers
       // The reduced system (InteriorPointTunables::reduced_system): R, where A's entries and each
       // point's products go in it, its factorisation, and the W^2 and sigma it was built from.
       CsrMatrix                        R;
-      std::vector<int>                 A_position, point_position;
-      std::vector<std::size_t>         point_position_start;
+      std::vector<int>                 A_position;
       UmfpackSolver                    lu_reduced{true};
       std::vector<Matrix>              reduced_W2;
       std::vector<Block>               reduced_sigma;

@@ -29,10 +29,26 @@ namespace granflow::solvers
 
   UmfpackSolver::~UmfpackSolver()
   {
+    release();
+  }
+
+  void
+  UmfpackSolver::release()
+  {
     if (numeric)
       umfpack_di_free_numeric(&numeric);
     if (symbolic)
       umfpack_di_free_symbolic(&symbolic);
+    numeric = symbolic = nullptr;
+    matrix             = nullptr;
+    pattern_start.clear();
+    pattern_column.clear();
+  }
+
+  void
+  UmfpackSolver::set_refinement_steps(const unsigned int steps)
+  {
+    control[UMFPACK_IRSTEP] = steps;
   }
 
   void
@@ -70,9 +86,9 @@ namespace granflow::solvers
     if (!numeric)
       throw std::logic_error("UmfpackSolver::solve before factorize");
     x.assign(b.size(), 0.);
-    const int status =
-        umfpack_di_solve(UMFPACK_At, matrix->row_start.data(), matrix->column.data(),
-                         matrix->value.data(), x.data(), b.data(), numeric, nullptr, nullptr);
+    const int status = umfpack_di_solve(UMFPACK_At, matrix->row_start.data(), matrix->column.data(),
+                                        matrix->value.data(), x.data(), b.data(), numeric,
+                                        control.data(), nullptr);
     if (status != UMFPACK_OK)
       throw std::runtime_error("UmfpackSolver: solve failed (status " + std::to_string(status) +
                                ")");

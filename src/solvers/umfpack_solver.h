@@ -32,6 +32,15 @@ namespace granflow::solvers
     void
     solve(std::vector<double> &x, const std::vector<double> &b) const;
 
+    /// UMFPACK's own iterative refinement steps in solve() (its default: 2). A caller that refines
+    /// on another system sets 0.
+    void
+    set_refinement_steps(unsigned int steps);
+
+    /// Frees the factorisation and the symbolic analysis.
+    void
+    release();
+
   private:
     void               *symbolic = nullptr, *numeric = nullptr;
     const CsrMatrix    *matrix = nullptr; // the last factorised matrix (UMFPACK's solve reads it)
