@@ -508,7 +508,7 @@ namespace granflow::solvers
         Matrix M{};
         for (std::size_t a = 0; a < n; ++a)
           {
-            const double Da = a == 0 ? 1. : data.mu[i];
+            const double Da = D(i * n + a);
             for (std::size_t b = 0; b < n; ++b)
               { // (D W2 B)_ab = D_a (W2_a0 B_0b + W2_ab mu) with B_0b = delta_0b + sigma_b
                 double v = W2[a][0] * ((b == 0 ? 1. : 0.) + sigma[b]);
@@ -523,15 +523,14 @@ namespace granflow::solvers
       /// Factorises the Newton matrix: K (augmented, whose constraint rows the caller has filled)
       /// or R (reduced, from sigma and W^2 = `W2`).
       void
-      factorize(const std::vector<Block> &sigma, const std::vector<Matrix> &W2)
+      factorize(const std::vector<Block> &sigma, std::vector<Matrix> W2)
       {
         if (!reduced() || augmented_from_now)
           {
-            lu.factorize(K);
-            ++factorizations;
+            factorize_augmented();
             return;
           }
-        reduced_W2    = W2;
+        reduced_W2    = std::move(W2);
         reduced_sigma = sigma;
         std::fill(R.value.begin(), R.value.end(), 0.);
         for (std::size_t k = 0; k < A_position.size(); ++k)
@@ -539,7 +538,7 @@ namespace granflow::solvers
         std::vector<double> G;
         for (std::size_t i = 0; i < n_points; ++i)
           {
-            const Matrix      M  = reduced_block(i, sigma[i], W2[i]);
+            const Matrix      M  = reduced_block(i, sigma[i], reduced_W2[i]);
             const std::size_t nc = point_columns[i].size();
             const double     *Hi = point_H[i].data();
             G.assign(n * nc, 0.); // G = M H_i
@@ -581,6 +580,12 @@ namespace granflow::solvers
       {
         augmented_from_now = true;
         lu_reduced.release();
+        factorize_augmented();
+      }
+
+      void
+      factorize_augmented()
+      {
         lu.factorize(K);
         ++factorizations;
       }
@@ -602,7 +607,7 @@ namespace granflow::solvers
             {
               const Block w = S::apply(reduced_W2[i], block(b, i, n_u));
               for (std::size_t a = 0; a < n; ++a)
-                t[i * n + a] = (a == 0 ? 1. : data.mu[i]) * w[a];
+                t[i * n + a] = D(i * n + a) * w[a];
             }
           data.H.Tvmult(Ht, t);
           for (std::size_t k = 0; k < n_u; ++k)
@@ -627,20 +632,23 @@ namespace granflow::solvers
             }
         };
         eliminate(x, rhs);
-        Vector Kx, correction, residual(n_u + m);
+        Vector correction, residual(n_u + m);
         for (unsigned int step = 0;; ++step)
           {
-            K.vmult(Kx, x);
-            for (std::size_t k = 0; k < n_u + m; ++k)
-              residual[k] = rhs[k] - Kx[k];
-            // componentwise backward error (Oettli-Prager): |r_k| / (|K| |x| + |rhs|)_k
-            // (a row whose scale is 0 has a residual of exactly 0); a non-finite x fails
+            // The residual rhs - K x and the componentwise backward error (Oettli-Prager)
+            // |r_k| / (|K| |x| + |rhs|)_k, in one pass over K (a row whose scale is 0 has a
+            // residual of exactly 0); a non-finite x fails.
             double relative = 0.;
-            for (std::size_t r = 0; r < n_u + m && relative <= 1.; ++r)
+            for (std::size_t r = 0; r < n_u + m; ++r)
               {
-                double scale = std::abs(rhs[r]);
+                double Kx = 0., scale = std::abs(rhs[r]);
                 for (int k = K.row_start[r]; k < K.row_start[r + 1]; ++k)
-                  scale += std::abs(K.value[k] * x[K.column[k]]);
+                  {
+                    const double term = K.value[k] * x[K.column[k]];
+                    Kx += term;
+                    scale += std::abs(term);
+                  }
+                residual[r]        = rhs[r] - Kx;
                 const double ratio = scale > 0. ? std::abs(residual[r]) / scale : residual[r];
                 relative           = std::isfinite(ratio) && std::isfinite(scale)
                                          ? std::max(relative, std::abs(ratio))
