@@ -219,6 +219,7 @@ namespace granflow::solvers
         const auto      t0 = Clock::now();
         Vector          u, sl(m), z(m);
         initial_point(u, sl, z); // no warm start: interior points do not profit from one
+        log_hand_over(0);
 
         if (options.log)
           *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
@@ -263,6 +264,7 @@ namespace granflow::solvers
             step             = newton_step(u, sl, z);
             short_steps      = step < tune.short_step ? short_steps + 1 : 0;
             ++stats.outer_iterations;
+            log_hand_over(stats.outer_iterations);
             // No step keeps the iterate interior (rounding has taken over), or the iterates have
             // left the central path and only crawl, or the residual stagnates: stop with the best
             // iterate.
@@ -284,6 +286,19 @@ namespace granflow::solvers
       }
 
     private:
+      /// Once, the line saying that (and why) the augmented matrix has taken over, with the
+      /// iteration whose step it happened in (0: the starting point).
+      void
+      log_hand_over(const unsigned int iteration)
+      {
+        if (!options.log || hand_over_reason.empty() || hand_over_logged)
+          return;
+        *options.log << "  iteration " << iteration
+                     << ": the Newton systems go to the augmented matrix from here on ("
+                     << hand_over_reason << ")\n";
+        hand_over_logged = true;
+      }
+
       /// A tunable's value as a user writes it: 1e-4 (not 0.0001), 0.5, 3.
       static std::string
       as_written(const double v)
@@ -567,17 +582,19 @@ namespace granflow::solvers
             lu_reduced.factorize(R);
             ++factorizations;
           }
-        catch (const std::runtime_error &)
+        catch (const std::runtime_error &e)
           {
-            hand_over(); // K may well factorise where R does not
+            // K may well factorise where R does not
+            hand_over(std::string("the reduced matrix could not be factorised (") + e.what() + ")");
           }
       }
 
       /// From now on the augmented matrix K (whose constraint rows the caller has filled) is
-      /// factorised, and the reduced factorisation is freed.
+      /// factorised, and the reduced factorisation is freed. `reason` goes to the log.
       void
-      hand_over()
+      hand_over(const std::string &reason)
       {
+        hand_over_reason   = "in the " + std::string(phase) + ", " + reason;
         augmented_from_now = true;
         lu_reduced.release();
         factorize_augmented();
@@ -633,6 +650,7 @@ namespace granflow::solvers
         };
         eliminate(x, rhs);
         Vector correction, residual(n_u + m);
+        double backward_error = 0.;
         for (unsigned int step = 0;; ++step)
           {
             // The residual rhs - K x and the componentwise backward error (Oettli-Prager)
@@ -654,6 +672,7 @@ namespace granflow::solvers
                                          ? std::max(relative, std::abs(ratio))
                                          : std::numeric_limits<double>::infinity();
               }
+            backward_error = relative;
             if (relative <= options.interior_point.reduced_accuracy)
               return;
             if (step == options.interior_point.refinement_steps)
@@ -663,7 +682,15 @@ namespace granflow::solvers
               x[k] += correction[k];
           }
         // The reduced system has lost the accuracy the step needs: the augmented one from now on.
-        hand_over();
+        std::ostringstream reason;
+        if (std::isfinite(backward_error))
+          reason << "the reduced solve's backward error was " << as_written(backward_error)
+                 << " after " << options.interior_point.refinement_steps
+                 << " refinement steps (reduced_accuracy "
+                 << as_written(options.interior_point.reduced_accuracy) << ")";
+        else
+          reason << "the reduced solve was not finite";
+        hand_over(reason.str());
         lu.solve(x, rhs);
       }
 
@@ -725,6 +752,7 @@ namespace granflow::solvers
         std::copy(data.l.begin(), data.l.end(), rhs.begin());
         for (std::size_t k = 0; k < m; ++k)
           rhs[n_u + k] = D(k) * data.k[k];
+        phase = "starting point";
         factorize(sigma, identity);
         linear_solve(x, rhs);
         u.assign(x.begin(), x.begin() + n_u);
@@ -768,6 +796,7 @@ namespace granflow::solvers
             lambda[i] = S::apply(W[i], block(sl, i));
           }
         fill_constraint_rows(sigma, W_inv2);
+        phase = "factorisation";
         try
           {
             std::vector<Matrix> W2;
@@ -824,6 +853,7 @@ namespace granflow::solvers
             for (double &v : rc[i])
               v = -v;
           }
+        phase = "predictor";
         if (!direction(rc))
           return 0.;
         const double t_affine   = max_step(sl, dsl, z, dz);
@@ -840,6 +870,7 @@ namespace granflow::solvers
               rc[i][a] -= second[a];
             rc[i][0] += centering * tau;
           }
+        phase = "corrector";
         if (!direction(rc))
           return 0.;
         double t = std::min(1., options.interior_point.step_fraction * max_step(sl, dsl, z, dz));
@@ -890,6 +921,9 @@ namespace granflow::solvers
       std::vector<Matrix>              reduced_W2;
       std::vector<Block>               reduced_sigma;
       bool                             augmented_from_now = false;
+      const char                      *phase = "starting point"; // the solve in progress
+      std::string                      hand_over_reason;         // why, once it has happened
+      bool                             hand_over_logged = false;
       unsigned int                     factorizations = 0;
       std::string                      factorization_failure; // UMFPACK's message, if it failed
       Vector                           gamma_u, lambda_z, r_x, r_z; // set by evaluate()

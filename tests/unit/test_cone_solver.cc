@@ -14,6 +14,7 @@
 #include <iterator>
 #include <limits>
 #include <random>
+#include <regex>
 #include <sstream>
 
 using namespace granflow::solvers;
@@ -335,10 +336,13 @@ TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
   // augmented matrix; with an unreachable accuracy that happens at the first solve, and every
   // iterate is then the augmented path's, bit for bit.
   const ConeProblemData data = coupled_random_problem();
-  const auto            run  = [&](const double reduced, const double accuracy,
+  std::string           hand_over; // the log's hand-over line(s) of the last run
+  const auto            run = [&](const double reduced, const double accuracy,
                        const unsigned int refinement_steps = 3,
                        const unsigned int iterations       = 200) {
+    std::stringstream log;
     ConeSolverOptions options;
+    options.log                             = &log;
     options.method                          = ConeMethod::interior_point;
     options.tolerance                       = 1e-7;
     options.max_outer_iterations            = iterations;
@@ -348,11 +352,30 @@ TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
     ConeSolution solution;
     const auto   stats = solve_cone_problem(data, options, solution);
     EXPECT_TRUE(stats.converged || iterations < 200);
+    hand_over.clear();
+    for (std::string line; std::getline(log, line);)
+      if (line.find("augmented matrix") != std::string::npos)
+        hand_over += line + "\n";
     return std::make_pair(stats, solution);
   };
   const auto [augmented_stats, augmented] = run(0., 1e-14);
-  const auto [reduced_stats, reduced]     = run(1., 1e-14);
-  const auto [handed_stats, handed_over]  = run(1., -1.);
+  EXPECT_EQ(hand_over, "");
+  // The defaults hand over in the middle of the solve (here in iteration 10's predictor), so the
+  // comparison covers both paths and the switch between them.
+  const auto [reduced_stats, reduced] = run(1., 1e-14);
+  EXPECT_TRUE(std::regex_match(
+      hand_over, std::regex("  iteration ([1-9]|1[0-9]): the Newton systems go to the "
+                            "augmented matrix from here on \\(in the predictor, the "
+                            "reduced solve's backward error was .* after 3 "
+                            "refinement steps \\(reduced_accuracy 1e-14\\)\\)\n")))
+      << hand_over;
+  const auto [handed_stats, handed_over] = run(1., -1.);
+  EXPECT_EQ(
+      hand_over.rfind("  iteration 0: the Newton systems go to the augmented matrix from here "
+                      "on (in the starting point, ",
+                      0),
+      0u)
+      << hand_over;
   // The elimination alone, unrefined, over the first 5 iterations, while W^2 spans few decades.
   const auto [early_stats, early] = run(0., 1., 3, 5);
   const auto [raw_stats, raw]     = run(1., 1., 0, 5);
