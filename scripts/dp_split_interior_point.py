@@ -144,8 +144,19 @@ def stop_near_singular(e, it, res, t0):
     return it, res, time.time() - t0
 
 
+def least_eigenvalue(lu, n, rng, iterations=30):
+    """Modulus of the eigenvalue of least modulus of the factorised matrix (inverse iteration)."""
+    z = rng.normal(size=n)
+    z /= np.linalg.norm(z)
+    for _ in range(iterations):
+        z = lu.solve(z)
+        norm = np.linalg.norm(z)
+        z /= norm
+    return 1 / norm
+
+
 def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3, frac=0.99,
-          delta=0.0, separate=False):
+          delta=0.0, separate=False, probe=()):
     A, H, l, k, mu, Bi, gs = read_dump(path)
     n_p = len(mu)
     HN = H[0::3]; HT = H[np.sort(np.r_[1:H.shape[0]:3, 2:H.shape[0]:3])]
@@ -158,6 +169,8 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
     nu = 3 * n_p
     Ht = H.T.tocsr()
     Alu = spla.splu(A.tocsc())
+    if probe:
+        A_least = least_eigenvalue(Alu, A.shape[0], np.random.default_rng(2))
     for it in range(max_it):
         # the residual of (35) at lambda: u from the momentum balance, as the replay measures
         gam = H @ Alu.solve(Ht @ lam.ravel() + l) + k
@@ -196,6 +209,10 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
         Mmat = sp.csr_matrix((Md.ravel(), (rows, cols)), shape=(3 * n_p, 3 * n_p))
         K = (A + Ht @ Mmat @ H).tocsc()
         lu = spla.splu(K, permc_spec='COLAMD')
+        if it in probe:
+            least = least_eigenvalue(lu, K.shape[0], np.random.default_rng(1))
+            print(f"      reduced matrix: eigenvalue of least modulus {least:.3e}, "
+                  f"{least / A_least:.1f} times A's least ({A_least:.3e})")
 
         def direction(rc1, rc2):
             q = arrow_solve(v, rc2)
@@ -290,8 +307,11 @@ if __name__ == '__main__':
                      help='proximal regularisation of the stress (0: none)')
     cli.add_argument('--separate-steps', action='store_true',
                      help='separate step lengths for (u, gamma_N, t, gamma_T) and lambda')
+    cli.add_argument('--probe', type=int, nargs='*', default=[],
+                     help='iterations at which to estimate the reduced matrix\'s least eigenvalue')
     o = cli.parse_args()
     iterations, residual, seconds = solve(o.dump, tol=o.tolerance, max_it=o.max_iterations,
-                                          delta=o.delta, separate=o.separate_steps)
+                                          delta=o.delta, separate=o.separate_steps,
+                                          probe=set(o.probe))
     print(f"{'converged' if residual <= o.tolerance else 'not converged'}: residual {residual:.3e} "
           f"after {iterations} iterations, {seconds:.1f} s")
