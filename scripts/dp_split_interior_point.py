@@ -155,8 +155,18 @@ def least_eigenvalue(lu, n, rng, iterations=30):
     return 1 / norm
 
 
+def central_stress(g, mu, tau):
+    """The point of the split form's central path whose slacks are gamma itself (gamma_N > 0):
+    lambda_N gamma_N = tau and (t, gamma_T) o (mu lambda_N, lambda_T) = tau e in closed form."""
+    q = g[:, 0] / mu
+    t = 0.5 * (q + np.sqrt(q * q + 4 * (g[:, 1:]**2).sum(1)))
+    lam = np.column_stack([tau / g[:, 0], np.zeros((len(g), 2))])
+    lam[:, 1:] = -mu[:, None] * lam[:, :1] * g[:, 1:] / t[:, None]
+    return t, lam
+
+
 def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3, frac=0.99,
-          delta=0.0, separate=False, probe=()):
+          delta=0.0, separate=False, probe=(), from_velocity=False):
     A, H, l, k, mu, Bi, gs = read_dump(path)
     n_p = len(mu)
     HN = H[0::3]; HT = H[np.sort(np.r_[1:H.shape[0]:3, 2:H.shape[0]:3])]
@@ -166,6 +176,12 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
     lam = np.zeros((n_p, 3)); lam[:, 0] = start_scale
     a = np.ones(n_p)        # slack for gamma_N
     x = np.zeros((n_p, 3)); x[:, 0] = 1.   # (t, sT), sT slack for gamma_T
+    if from_velocity:  # a strictly dilating start, gamma_N = 1e-2 (H_N has full row rank)
+        u = spla.lsqr(HN, np.full(n_p, 1e-2) - kN, atol=1e-14, btol=1e-14, iter_lim=50000)[0]
+        g = (H @ u + k).reshape(-1, 3)
+        t, lam = central_stress(g, mu, 1e-2 * start_scale)
+        a[:] = g[:, 0]
+        x[:] = np.column_stack([t, g[:, 1:]])
     nu = 3 * n_p
     Ht = H.T.tocsr()
     Alu = spla.splu(A.tocsc())
@@ -282,7 +298,23 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
         al = min(1., frac * step_len(da, dlam, dx, dy, report=verbose))
         if verbose:
             print(f"      aff {aa:.3f} sigma {sigma:.2e} step {al:.3f}")
-        if separate:
+        if from_velocity:
+            # the velocity's step only, kept where gamma_N > 0 at every point; then the slacks
+            # are gamma(u) and the stress is the central path's at the reduced tau
+            g = (H @ u + k).reshape(-1, 3)
+            dgN = HN @ du
+            neg = dgN < 0
+            bound = np.min(-g[neg, 0] / dgN[neg]) if neg.any() else np.inf
+            al = min(1., frac * bound)
+            u += al * du
+            g = (H @ u + k).reshape(-1, 3)
+            per_pair = gap / (2 * n_p)  # a b = x . y = tau at such a point
+            t, lam[:] = central_stress(g, mu, per_pair * (1 - al * (1 - sigma)))
+            a[:] = g[:, 0]
+            x[:] = np.column_stack([t, g[:, 1:]])
+            if verbose:
+                print(f"      velocity step {al:.3f} (gamma_N > 0 allows {bound:.3f})")
+        elif separate:
             aP = np.inf
             m = da < 0
             if m.any(): aP = min(aP, (-a[m] / da[m]).min())
@@ -307,11 +339,14 @@ if __name__ == '__main__':
                      help='proximal regularisation of the stress (0: none)')
     cli.add_argument('--separate-steps', action='store_true',
                      help='separate step lengths for (u, gamma_N, t, gamma_T) and lambda')
+    cli.add_argument('--from-velocity', action='store_true',
+                     help='step the velocity only, from a strictly dilating start, and put the '
+                          'slacks and the stress on the central path after each step')
     cli.add_argument('--probe', type=int, nargs='*', default=[],
                      help='iterations at which to estimate the reduced matrix\'s least eigenvalue')
     o = cli.parse_args()
     iterations, residual, seconds = solve(o.dump, tol=o.tolerance, max_it=o.max_iterations,
                                           delta=o.delta, separate=o.separate_steps,
-                                          probe=set(o.probe))
+                                          probe=set(o.probe), from_velocity=o.from_velocity)
     print(f"{'converged' if residual <= o.tolerance else 'not converged'}: residual {residual:.3e} "
           f"after {iterations} iterations, {seconds:.1f} s")
