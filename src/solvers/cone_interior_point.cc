@@ -219,12 +219,12 @@ namespace granflow::solvers
         const auto      t0 = Clock::now();
         Vector          u, sl(m), z(m);
         initial_point(u, sl, z); // no warm start: interior points do not profit from one
-        log_hand_over(0);
 
         if (options.log)
           *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
                        << "   iter      residual           gap       primal         dual      step"
                           "      time[s]\n";
+        log_hand_over(0);
         const InteriorPointTunables &tune = options.interior_point;
         detail::SolveMonitor monitor(options, stats);
         Vector               best_u, best_lambda, best_gamma;
