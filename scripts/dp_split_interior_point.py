@@ -5,7 +5,8 @@ cone problem dumped by `granflow run CASE --set "Solver/Dump cone problem=FILE"`
 the measurement of docs/solvers.md ("the split form", session 23); the residual is the
 Fischer-Burmeister one of the replay in the paper's units (no gamma_scale).
 
-    scripts/dp_split_interior_point.py FILE [--max-iterations N] [--delta D] [--separate-steps]
+    scripts/dp_split_interior_point.py FILE [--tolerance T] [--max-iterations N] [--delta D]
+        [--separate-steps] [--from-velocity] [--probe K ...]
 
 The law of Corollary 1, lambda in K_mu, gamma_hat = gamma + mu |gamma_T| e_N in K_{1/mu},
 lambda . gamma_hat = 0, is the same as the two complementarities
@@ -134,25 +135,25 @@ def soc_max_step(x, dx):
     return alpha
 
 
-class NearSingular(RuntimeError):
+class Cancellation(RuntimeError):
     pass
 
 
-def stop_near_singular(e, it, res, t0):
-    print(f"stopped: the Newton matrix is near singular (the two eliminations of the stress step "
-          f"differ by {e.args[0]:.1e} of its size)")
+def stop_cancellation(e, it, res, t0):
+    print(f"stopped: the points' own eliminations of the stress step disagree by {e.args[0]:.1e} "
+          f"of its size")
     return it, res, time.time() - t0
 
 
-def least_eigenvalue(lu, n, rng, iterations=30):
-    """Modulus of the eigenvalue of least modulus of the factorised matrix (inverse iteration)."""
+def least_singular_value(lu, n, rng, iterations=30, symmetric=False):
+    """Least singular value of the factorised matrix K: inverse iteration on K^T K."""
     z = rng.normal(size=n)
     z /= np.linalg.norm(z)
     for _ in range(iterations):
-        z = lu.solve(z)
+        z = lu.solve(z) if symmetric else lu.solve(lu.solve(z, trans='T'))
         norm = np.linalg.norm(z)
         z /= norm
-    return 1 / norm
+    return 1 / norm if symmetric else 1 / np.sqrt(norm)
 
 
 def central_stress(g, mu, tau):
@@ -182,12 +183,12 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
         t, lam = central_stress(g, mu, 1e-2 * start_scale)
         a[:] = g[:, 0]
         x[:] = np.column_stack([t, g[:, 1:]])
-    nu = 3 * n_p
+    nu = 2 * n_p  # two pairs per point, each of degree 1: a b = x . y = tau on the central path
     Ht = H.T.tocsr()
     Alu = spla.splu(A.tocsc())
     if probe:
-        A_least = least_eigenvalue(Alu, A.shape[0], np.random.default_rng(2))
-    for it in range(max_it):
+        A_least = least_singular_value(Alu, A.shape[0], np.random.default_rng(2), symmetric=True)
+    for it in range(max_it + 1):
         # the residual of (35) at lambda: u from the momentum balance, as the replay measures
         gam = H @ Alu.solve(Ht @ lam.ravel() + l) + k
         res = fb_residual(lam.ravel(), gam, mu)
@@ -202,7 +203,7 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
             print(f"{it:4d} fb {res:.3e} gap/nu {tau:.3e} |rm| {np.abs(rm).max():.2e} "
                   f"|rN| {np.abs(rN).max():.2e} |rT| {np.abs(rT).max():.2e} t {time.time()-t0:.1f}s",
                   flush=True)
-        if res <= tol:
+        if res <= tol or it == max_it:
             return it, res, time.time() - t0
         eta, wb = nt_scaling(x, y)
         v = W_apply(eta, wb, x)
@@ -224,11 +225,15 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
         Md = np.einsum('nij,njk->nik', Pinv, Mb)
         Mmat = sp.csr_matrix((Md.ravel(), (rows, cols)), shape=(3 * n_p, 3 * n_p))
         K = (A + Ht @ Mmat @ H).tocsc()
-        lu = spla.splu(K, permc_spec='COLAMD')
+        try:
+            lu = spla.splu(K, permc_spec='COLAMD')
+        except RuntimeError as e:  # SuperLU: "Factor is exactly singular"
+            print(f"stopped: the Newton matrix could not be factorised ({e})")
+            return it, res, time.time() - t0
         if it in probe:
-            least = least_eigenvalue(lu, K.shape[0], np.random.default_rng(1))
-            print(f"      reduced matrix: eigenvalue of least modulus {least:.3e}, "
-                  f"{least / A_least:.1f} times A's least ({A_least:.3e})")
+            least = least_singular_value(lu, K.shape[0], np.random.default_rng(1))
+            print(f"      reduced matrix: least singular value {least:.3e}, "
+                  f"{least / A_least:.1f} times A's least eigenvalue ({A_least:.3e})")
 
         def direction(rc1, rc2):
             q = arrow_solve(v, rc2)
@@ -247,9 +252,11 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
             dx = np.column_stack([dt, dsT])
             dy = Wq - np.einsum('nij,nj->ni', G, dx)
             dlam = np.column_stack([dlamN, dy[:, 1:]])
-            # the two eliminations of dlam agree unless the Newton matrix is near singular
-            if not np.allclose(dlam, dl, rtol=1e-6, atol=1e-6 * np.abs(dl).max()):
-                raise NearSingular(np.abs(dlam - dl).max() / np.abs(dl).max())
+            # two eliminations of dlam from the same dgamma (the global solve does not enter):
+            # an error in the algebra above would make them differ at O(1); rounding in the
+            # points' own 3 x 3 algebra, where W^2 is huge, makes them differ far less
+            if not np.allclose(dlam, dl, rtol=1e-3, atol=1e-3 * np.abs(dl).max()):
+                raise Cancellation(np.abs(dlam - dl).max() / np.abs(dl).max())
             return du, da, dlam, dx, dy
 
         def step_len(da, dlam, dx, dy, report=False):
@@ -281,8 +288,8 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
         rc2 = -jordan(v, v)
         try:
             du, da, dlam, dx, dy = direction(rc1, rc2)
-        except NearSingular as e:
-            return stop_near_singular(e, it, res, t0)
+        except Cancellation as e:
+            return stop_cancellation(e, it, res, t0)
         aa = min(1., step_len(da, dlam, dx, dy))
         gap_aff = ((a + aa * da) * (b + aa * dlam[:, 0])).sum() + ((x + aa * dx) * (y + aa * dy)).sum()
         sigma = (gap_aff / gap)**exponent
@@ -293,8 +300,8 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
         rc2 = sigma * tau * e - jordan(v, v) - jordan(Wdx, Widy)
         try:
             du, da, dlam, dx, dy = direction(rc1, rc2)
-        except NearSingular as e:
-            return stop_near_singular(e, it, res, t0)
+        except Cancellation as e:
+            return stop_cancellation(e, it, res, t0)
         al = min(1., frac * step_len(da, dlam, dx, dy, report=verbose))
         if verbose:
             print(f"      aff {aa:.3f} sigma {sigma:.2e} step {al:.3f}")
@@ -327,7 +334,6 @@ def solve(path, tol=1e-6, max_it=200, verbose=True, start_scale=1.0, exponent=3,
             u += aP * du; a += aP * da; x += aP * dx; lam += aD * dlam
         else:
             u += al * du; a += al * da; lam += al * dlam; x += al * dx
-    return max_it, res, time.time() - t0
 
 
 if __name__ == '__main__':
