@@ -36,6 +36,7 @@
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace granflow::solvers
 {
@@ -753,7 +754,7 @@ namespace granflow::solvers
         for (std::size_t k = 0; k < m; ++k)
           rhs[n_u + k] = D(k) * data.k[k];
         phase = "starting point";
-        factorize(sigma, identity);
+        factorize(sigma, std::move(identity)); // W^2 = I, no longer needed here
         linear_solve(x, rhs);
         u.assign(x.begin(), x.begin() + n_u);
         evaluate(u, Vector(m, 0.), Vector(m, 0.)); // r_z = D gamma_hat(u)
@@ -803,7 +804,7 @@ namespace granflow::solvers
             if (reduced() && !augmented_from_now)
               for (std::size_t i = 0; i < n_points; ++i)
                 W2.push_back(S::multiply(W[i], W[i]));
-            factorize(sigma, W2);
+            factorize(sigma, std::move(W2));
           }
         catch (const std::runtime_error &e)
           {
