@@ -24,6 +24,8 @@
 // get there the augmented matrix itself is factorised (diagonal pivots) for the rest of the solve.
 #include "rheology/drucker_prager.h"
 #include "solvers/cone_problem.h"
+#include "solvers/point_blocks.h"
+#include "solvers/soc.h"
 #include "solvers/solve_monitor.h"
 #include "solvers/umfpack_solver.h"
 
@@ -45,149 +47,9 @@ namespace granflow::solvers
     using Vector = std::vector<double>;
     using Clock  = std::chrono::steady_clock;
 
-    /// Jordan algebra of the second-order cone K_1 = {x_0 >= ||x_bar||} in R^n.
-    template <std::size_t n> struct Soc
-    {
-      using Block  = std::array<double, n>;
-      using Matrix = std::array<std::array<double, n>, n>;
-
-      /// x^T J y, J = diag(1, -1, ..., -1)
-      static double
-      jdot(const Block &x, const Block &y)
-      {
-        double s = x[0] * y[0];
-        for (std::size_t j = 1; j < n; ++j)
-          s -= x[j] * y[j];
-        return s;
-      }
-
-      static double
-      dot(const Block &x, const Block &y)
-      {
-        double s = 0.;
-        for (std::size_t j = 0; j < n; ++j)
-          s += x[j] * y[j];
-        return s;
-      }
-
-      /// x o y = (x . y, x_0 y_bar + y_0 x_bar)
-      static Block
-      product(const Block &x, const Block &y)
-      {
-        Block r;
-        r[0] = dot(x, y);
-        for (std::size_t j = 1; j < n; ++j)
-          r[j] = x[0] * y[j] + y[0] * x[j];
-        return r;
-      }
-
-      /// v with lambda o v = r (lambda in the interior of K_1)
-      static Block
-      arrow_solve(const Block &lambda, const Block &r)
-      {
-        Block  v;
-        double lr = 0.;
-        for (std::size_t j = 1; j < n; ++j)
-          lr += lambda[j] * r[j];
-        v[0] = (lambda[0] * r[0] - lr) / jdot(lambda, lambda);
-        for (std::size_t j = 1; j < n; ++j)
-          v[j] = (r[j] - v[0] * lambda[j]) / lambda[0];
-        return v;
-      }
-
-      /// x^p by the spectral decomposition, x in the interior of K_1. The small eigenvalue
-      /// x_0 - ||x_bar|| is computed as det(x) / (x_0 + ||x_bar||), without cancellation.
-      static Block
-      power(const Block &x, const double p)
-      {
-        const double nb = rheology::norm_T(x), big = x[0] + nb;
-        const double small = (x[0] - nb) * big > 0. ? jdot(x, x) / big : 0.;
-        const double a = std::pow(small, p), b = std::pow(big, p);
-        Block        r;
-        r[0] = 0.5 * (a + b);
-        for (std::size_t j = 1; j < n; ++j)
-          r[j] = nb > 0. ? 0.5 * (b - a) * x[j] / nb : 0.;
-        return r;
-      }
-
-      /// Quadratic representation P(x) = 2 x x^T - det(x) J.
-      static Matrix
-      quadratic_representation(const Block &x)
-      {
-        const double det = jdot(x, x);
-        Matrix       P;
-        for (std::size_t a = 0; a < n; ++a)
-          for (std::size_t b = 0; b < n; ++b)
-            P[a][b] = 2. * x[a] * x[b] - (a == b ? (a == 0 ? det : -det) : 0.);
-        return P;
-      }
-
-      static Block
-      apply(const Matrix &M, const Block &x)
-      {
-        Block r{};
-        for (std::size_t a = 0; a < n; ++a)
-          for (std::size_t b = 0; b < n; ++b)
-            r[a] += M[a][b] * x[b];
-        return r;
-      }
-
-      static Matrix
-      multiply(const Matrix &M, const Matrix &N)
-      {
-        Matrix r{};
-        for (std::size_t a = 0; a < n; ++a)
-          for (std::size_t c = 0; c < n; ++c)
-            for (std::size_t b = 0; b < n; ++b)
-              r[a][b] += M[a][c] * N[c][b];
-        return r;
-      }
-
-      /// Nesterov-Todd scaling of (s, z): the scaling point w with P(w) z = s, W = P(w^-1/2),
-      /// W^-1 = P(w^1/2); then W s = W^-1 z.
-      static void
-      nesterov_todd(const Block &s, const Block &z, Matrix &W, Matrix &W_inv)
-      {
-        const Matrix Ps = quadratic_representation(power(s, 0.5));
-        const Block  w  = apply(Ps, power(apply(Ps, z), -0.5));
-        W               = quadratic_representation(power(w, -0.5));
-        W_inv           = quadratic_representation(power(w, 0.5));
-      }
-
-      static bool
-      interior(const Block &x)
-      {
-        return x[0] > 0. && jdot(x, x) > 0.;
-      }
-
-      /// Largest t with x + t d in K_1 (x interior): the first positive root of det(x + t d).
-      static double
-      max_step(const Block &x, const Block &d)
-      {
-        const double a = jdot(d, d), b = 2. * jdot(x, d), c = jdot(x, x);
-        double       t = std::numeric_limits<double>::infinity();
-        if (d[0] < 0.)
-          t = -x[0] / d[0];
-        if (std::abs(a) <= 1e-14 * (std::abs(b) + std::abs(c)))
-          {
-            if (b < 0.)
-              t = std::min(t, -c / b);
-            return t;
-          }
-        const double disc = b * b - 4. * a * c;
-        if (disc < 0.)
-          return t;
-        const double q = -0.5 * (b + std::copysign(std::sqrt(disc), b)); // stable roots q/a, c/q
-        for (const double r : {q / a, q != 0. ? c / q : -1.})
-          if (r > 0.)
-            t = std::min(t, r);
-        return t;
-      }
-    };
-
     template <std::size_t n> class InteriorPoint
     {
-      using S      = Soc<n>;
+      using S      = detail::Soc<n>;
       using Block  = typename S::Block;
       using Matrix = typename S::Matrix;
 
@@ -198,6 +60,7 @@ namespace granflow::solvers
           , n_u(data.A.n_rows)
           , n_points(data.n_points())
           , m(n_points * n)
+          , blocks(data)
           , lu(true)
       {
         for (std::size_t i = 0; i < n_points; ++i)
@@ -208,7 +71,7 @@ namespace granflow::solvers
         build_pattern();
         if (reduced())
           {
-            build_reduced_pattern();
+            blocks.build_reduced_pattern();
             lu_reduced.set_refinement_steps(0); // refined on the augmented system instead
           }
       }
@@ -389,17 +252,6 @@ namespace granflow::solvers
               Ht.value[p]  = data.H.value[k];
             }
 
-        point_columns.resize(n_points);
-        for (std::size_t i = 0; i < n_points; ++i)
-          {
-            auto &cols = point_columns[i];
-            for (std::size_t a = 0; a < n; ++a)
-              for (int k = data.H.row_start[i * n + a]; k < data.H.row_start[i * n + a + 1]; ++k)
-                cols.push_back(data.H.column[k]);
-            std::sort(cols.begin(), cols.end());
-            cols.erase(std::unique(cols.begin(), cols.end()), cols.end());
-          }
-
         K.n_rows = K.n_cols = n_u + m;
         K.row_start.assign(1, 0);
         for (std::size_t r = 0; r < n_u; ++r)
@@ -419,28 +271,13 @@ namespace granflow::solvers
         for (std::size_t i = 0; i < n_points; ++i)
           for (std::size_t a = 0; a < n; ++a)
             {
-              for (const int c : point_columns[i])
+              for (const int c : blocks.columns(i))
                 K.column.push_back(c);
               for (std::size_t b = 0; b < n; ++b)
                 K.column.push_back(static_cast<int>(n_u + i * n + b));
               K.row_start.push_back(static_cast<int>(K.column.size()));
             }
         K.value.resize(K.column.size(), 0.);
-
-        // Dense copy of each point's rows of H on its column union: H_i (n x |cols|).
-        point_H.resize(n_points);
-        for (std::size_t i = 0; i < n_points; ++i)
-          {
-            const auto &cols = point_columns[i];
-            point_H[i].assign(n * cols.size(), 0.);
-            for (std::size_t a = 0; a < n; ++a)
-              for (int k = data.H.row_start[i * n + a]; k < data.H.row_start[i * n + a + 1]; ++k)
-                {
-                  const auto c =
-                      std::lower_bound(cols.begin(), cols.end(), data.H.column[k]) - cols.begin();
-                  point_H[i][a * cols.size() + c] += data.H.value[k];
-                }
-          }
       }
 
       /// Fills the constraint rows of K: -B_i H_i (B = D (I + e_N sigma^T)) and -W_i^-2.
@@ -449,9 +286,8 @@ namespace granflow::solvers
       {
         for (std::size_t i = 0; i < n_points; ++i)
           {
-            const auto       &cols = point_columns[i];
-            const std::size_t nc   = cols.size();
-            const double     *Hi   = point_H[i].data();
+            const std::size_t nc = blocks.columns(i).size();
+            const double     *Hi = blocks.H(i);
             for (std::size_t a = 0; a < n; ++a)
               {
                 double *row = &K.value[K.row_start[n_u + i * n + a]];
@@ -478,42 +314,6 @@ namespace granflow::solvers
       reduced() const
       {
         return options.interior_point.reduced_system != 0.;
-      }
-
-      /// The pattern of the reduced Newton matrix R = A + sum_i H_i^T D W_i^2 B_i H_i (velocity
-      /// unknowns only): A's, and every pair of a point's columns; and where A's entries go in
-      /// R.value (a point's products are placed by merging its sorted columns with R's rows, which
-      /// costs no memory: |cols|^2 positions per point would, 1.4 GB on a large P1 mesh).
-      void
-      build_reduced_pattern()
-      {
-        std::vector<std::vector<int>> rows(n_u);
-        for (std::size_t r = 0; r < n_u; ++r)
-          for (int k = data.A.row_start[r]; k < data.A.row_start[r + 1]; ++k)
-            rows[r].push_back(data.A.column[k]);
-        for (const auto &cols : point_columns)
-          for (const int r : cols)
-            rows[r].insert(rows[r].end(), cols.begin(), cols.end());
-        R.n_rows = R.n_cols = n_u;
-        R.row_start.assign(1, 0);
-        R.column.clear();
-        for (auto &row : rows)
-          {
-            std::sort(row.begin(), row.end());
-            row.erase(std::unique(row.begin(), row.end()), row.end());
-            R.column.insert(R.column.end(), row.begin(), row.end());
-            R.row_start.push_back(static_cast<int>(R.column.size()));
-          }
-        R.value.assign(R.column.size(), 0.);
-        const auto position = [&](const int r, const int c) {
-          const auto first = R.column.begin() + R.row_start[r];
-          const auto last  = R.column.begin() + R.row_start[r + 1];
-          return static_cast<int>(std::lower_bound(first, last, c) - R.column.begin());
-        };
-        A_position.clear();
-        for (std::size_t r = 0; r < n_u; ++r)
-          for (int k = data.A.row_start[r]; k < data.A.row_start[r + 1]; ++k)
-            A_position.push_back(position(static_cast<int>(r), data.A.column[k]));
       }
 
       /// M_i = D W_i^2 B_i, B_i = D (I + e_N sigma_i^T): the point's block of the reduced matrix
@@ -548,39 +348,12 @@ namespace granflow::solvers
           }
         reduced_W2    = std::move(W2);
         reduced_sigma = sigma;
-        std::fill(R.value.begin(), R.value.end(), 0.);
-        for (std::size_t k = 0; k < A_position.size(); ++k)
-          R.value[A_position[k]] += data.A.value[k];
-        std::vector<double> G;
+        std::vector<Matrix> M(n_points);
         for (std::size_t i = 0; i < n_points; ++i)
-          {
-            const Matrix      M  = reduced_block(i, sigma[i], reduced_W2[i]);
-            const std::size_t nc = point_columns[i].size();
-            const double     *Hi = point_H[i].data();
-            G.assign(n * nc, 0.); // G = M H_i
-            for (std::size_t a = 0; a < n; ++a)
-              for (std::size_t b = 0; b < n; ++b)
-                if (M[a][b] != 0.)
-                  for (std::size_t c = 0; c < nc; ++c)
-                    G[a * nc + c] += M[a][b] * Hi[b * nc + c];
-            const auto &cols = point_columns[i];
-            for (std::size_t r = 0; r < nc; ++r) // H_i^T G into row cols[r], merged with it
-              {
-                int k = R.row_start[cols[r]];
-                for (std::size_t c = 0; c < nc; ++c)
-                  {
-                    while (R.column[k] < cols[c])
-                      ++k;
-                    double v = 0.;
-                    for (std::size_t a = 0; a < n; ++a)
-                      v += Hi[a * nc + r] * G[a * nc + c];
-                    R.value[k] += v;
-                  }
-              }
-          }
+          M[i] = reduced_block(i, sigma[i], reduced_W2[i]);
         try
           {
-            lu_reduced.factorize(R);
+            lu_reduced.factorize(blocks.reduced(M));
             ++factorizations;
           }
         catch (const std::runtime_error &e)
@@ -910,14 +683,11 @@ namespace granflow::solvers
       const ConeProblemData           &data;
       const ConeSolverOptions         &options;
       const std::size_t                n_u, n_points, m;
-      std::vector<std::vector<int>>    point_columns;
-      std::vector<std::vector<double>> point_H;
+      detail::PointBlocks              blocks;
       CsrMatrix                        K;
       UmfpackSolver                    lu;
-      // The reduced system (InteriorPointTunables::reduced_system): R, where A's entries and each
-      // point's products go in it, its factorisation, and the W^2 and sigma it was built from.
-      CsrMatrix                        R;
-      std::vector<int>                 A_position;
+      // The reduced system (InteriorPointTunables::reduced_system): R's factorisation (R itself is
+      // in `blocks`), and the W^2 and sigma it was built from.
       UmfpackSolver                    lu_reduced{true};
       std::vector<Matrix>              reduced_W2;
       std::vector<Block>               reduced_sigma;
