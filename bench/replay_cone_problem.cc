@@ -96,6 +96,7 @@ namespace
             tunable(fp, fpg, "spg_memory", &F::spg_memory),
             tunable(fp, fpg, "spg_armijo", &F::spg_armijo),
             tunable(fp, fpg, "spg_max_step", &F::spg_max_step),
+            tunable(ip, ipg, "split_form", &I::split_form),
             tunable(ip, ipg, "step_fraction", &I::step_fraction),
             tunable(ip, ipg, "centering_exponent", &I::centering_exponent),
             tunable(ip, ipg, "initial_margin", &I::initial_margin),

@@ -24,6 +24,7 @@
 // get there the augmented matrix itself is factorised (diagonal pivots) for the rest of the solve.
 #include "rheology/drucker_prager.h"
 #include "solvers/cone_problem.h"
+#include "solvers/interior_point_rules.h"
 #include "solvers/point_blocks.h"
 #include "solvers/soc.h"
 #include "solvers/solve_monitor.h"
@@ -92,21 +93,15 @@ namespace granflow::solvers
         const InteriorPointTunables &tune = options.interior_point;
         detail::SolveMonitor monitor(options, stats);
         Vector               best_u, best_lambda, best_gamma;
-        double               step        = 0.;
-        unsigned int         short_steps = 0, progress_iteration = 0;
-        double               progress_mark = std::numeric_limits<double>::infinity();
+        detail::StallRules           rules(tune);
+        double                       step = 0.;
         for (;;)
           {
             evaluate(u, sl, z);
             const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
             const bool   least =
                 monitor.record(cone_residual(data, options.residual, lambda_z, gamma_u), elapsed);
-            if (stats.residual <
-                tune.stagnation_ratio * progress_mark) // resets the stagnation count
-              {
-                progress_mark      = stats.residual;
-                progress_iteration = stats.outer_iterations;
-              }
+            rules.record(stats.residual, stats.outer_iterations);
             if (least)
               {
                 best_u      = u;
@@ -125,18 +120,16 @@ namespace granflow::solvers
             // at the last one's duration, end past the time limit.
             if (monitor.finished(true))
               break;
-            step             = newton_step(u, sl, z);
-            short_steps      = step < tune.short_step ? short_steps + 1 : 0;
+            step = newton_step(u, sl, z);
             ++stats.outer_iterations;
             log_hand_over(stats.outer_iterations);
             // No step keeps the iterate interior (rounding has taken over), or the iterates have
             // left the central path and only crawl, or the residual stagnates: stop with the best
             // iterate.
-            if (step == 0. || short_steps == tune.short_steps ||
-                stats.outer_iterations - progress_iteration >= tune.stagnation_iterations)
+            if (rules.stalled(step, stats.outer_iterations))
               {
                 stats.stalled      = true;
-                stats.stall_reason = stall_reason(step, short_steps);
+                stats.stall_reason = rules.reason(factorization_failure);
                 break;
               }
           }
@@ -161,41 +154,6 @@ namespace granflow::solvers
                      << ": the Newton systems go to the augmented matrix from here on ("
                      << hand_over_reason << ")\n";
         hand_over_logged = true;
-      }
-
-      /// A tunable's value as a user writes it: 1e-4 (not 0.0001), 0.5, 3.
-      static std::string
-      as_written(const double v)
-      {
-        std::ostringstream s;
-        if (v != 0. && std::abs(v) < 1e-3)
-          {
-            const int    e = static_cast<int>(std::floor(std::log10(std::abs(v))));
-            const double m = v / std::pow(10., e);
-            s << std::setprecision(3) << m << 'e' << e;
-          }
-        else
-          s << v;
-        return s.str();
-      }
-
-      /// Which stall rule of InteriorPointTunables ended the solve, in words.
-      std::string
-      stall_reason(const double step, const unsigned int short_steps) const
-      {
-        const InteriorPointTunables &tune = options.interior_point;
-        std::ostringstream           s;
-        if (!factorization_failure.empty())
-          s << "the Newton matrix could not be factorised (" << factorization_failure << ")";
-        else if (step == 0.)
-          s << "no step kept the iterate interior (rounding)";
-        else if (short_steps == tune.short_steps)
-          s << tune.short_steps << " successive steps were shorter than "
-            << as_written(tune.short_step) << " (the iterates left the central path)";
-        else
-          s << tune.stagnation_iterations << " iterations gained less than "
-            << as_written(100. * (1. - tune.stagnation_ratio)) << " % on the least residual";
-        return s.str();
       }
 
       double
@@ -458,10 +416,10 @@ namespace granflow::solvers
         // The reduced system has lost the accuracy the step needs: the augmented one from now on.
         std::ostringstream reason;
         if (std::isfinite(backward_error))
-          reason << "the reduced solve's backward error was " << as_written(backward_error)
+          reason << "the reduced solve's backward error was " << detail::as_written(backward_error)
                  << " after " << options.interior_point.refinement_steps
                  << " refinement steps (reduced_accuracy "
-                 << as_written(options.interior_point.reduced_accuracy) << ")";
+                 << detail::as_written(options.interior_point.reduced_accuracy) << ")";
         else
           reason << "the reduced solve was not finite";
         hand_over(reason.str());

@@ -93,6 +93,11 @@ namespace granflow::solvers
   /// docs/solvers.md.
   struct InteriorPointTunables
   {
+    /// 1: the interior point on the split form of the law (cone_split_interior_point.cc), whose
+    /// central path is bilinear; 0: on the whole complementarity of Corollary 1, De Saxce's term
+    /// linearised in each step (cone_interior_point.cc). The split form uses step_fraction,
+    /// centering_exponent and the stall rules; the other tunables are the whole form's.
+    double split_form = 0.;
     /// Fraction of the longest step that keeps every block interior.
     double step_fraction = 0.99;
     /// Mehrotra's centring: sigma = (gap after the affine step / gap)^centering_exponent.
@@ -180,6 +185,12 @@ namespace granflow::solvers
   solve_cone_problem_interior_point(const ConeProblemData   &data,
                                     const ConeSolverOptions &options,
                                     ConeSolution            &solution);
+
+  /// The same problem by an interior point on the split form of the law (see
+  /// InteriorPointTunables::split_form and cone_split_interior_point.cc); same requirements.
+  ConeSolverStats
+  solve_cone_problem_split_interior_point(const ConeProblemData   &data,
+                                          const ConeSolverOptions &options, ConeSolution &solution);
 
   /// Residual of DP(mu, Bi) at every point (lambda_i against gamma_scale_i gamma_i), infinity norm
   /// over the points of the Euclidean norms.

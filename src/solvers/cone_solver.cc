@@ -561,7 +561,9 @@ namespace granflow::solvers
   solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
   {
     if (options.method == ConeMethod::interior_point)
-      return solve_cone_problem_interior_point(data, options, solution);
+      return options.interior_point.split_form != 0.
+                 ? solve_cone_problem_split_interior_point(data, options, solution)
+                 : solve_cone_problem_interior_point(data, options, solution);
     if (data.block_size == 3)
       return solve_blocks<3>(data, options, solution);
     if (data.block_size == 6)

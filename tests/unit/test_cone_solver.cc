@@ -255,7 +255,7 @@ namespace
 
   template <std::size_t n>
   void
-  check_interior_point_single_points(const unsigned int seed)
+  check_interior_point_single_points(const unsigned int seed, const double split_form)
   {
     std::mt19937                           rng(seed);
     std::uniform_real_distribution<double> U(-1., 1.);
@@ -269,8 +269,9 @@ namespace
               (j > 0 && trial % 2 ? 0.2 : 1.) * U(rng); // occurs with 5 tangential components too
         const ConeProblemData data = single_point_problem({w.begin(), w.end()}, mu, 0.);
         ConeSolverOptions     options;
-        options.method    = ConeMethod::interior_point;
-        options.tolerance = 1e-9;
+        options.method                    = ConeMethod::interior_point;
+        options.interior_point.split_form = split_form;
+        options.tolerance                 = 1e-9;
         ConeSolution       solution;
         std::ostringstream log;
         options.log      = &log;
@@ -286,17 +287,23 @@ namespace
   }
 } // namespace
 
-TEST(ConeInteriorPoint, SinglePointMatchesDisjunctiveSolution2D)
+// Each test of the interior point runs on the split form of the law (InteriorPointTunables::
+// split_form = 1, cone_split_interior_point.cc) and on the whole one (0, cone_interior_point.cc).
+class ConeInteriorPointForms : public ::testing::TestWithParam<double>
 {
-  check_interior_point_single_points<3>(7);
+};
+
+TEST_P(ConeInteriorPointForms, SinglePointMatchesDisjunctiveSolution2D)
+{
+  check_interior_point_single_points<3>(7, GetParam());
 }
 
-TEST(ConeInteriorPoint, SinglePointMatchesDisjunctiveSolution3D)
+TEST_P(ConeInteriorPointForms, SinglePointMatchesDisjunctiveSolution3D)
 {
-  check_interior_point_single_points<6>(8);
+  check_interior_point_single_points<6>(8, GetParam());
 }
 
-TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
+TEST_P(ConeInteriorPointForms, CoupledProblemAgreesWithTheFixedPoint)
 {
   // The coupled random problem above (10 dofs, 3 points, mu = 0.3, 0.5, 0.8): the interior point
   // on the whole problem and Cadoux's fixed point find the same u, and lambda
@@ -307,8 +314,9 @@ TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
   // Tolerance 1e-7: at a point where lambda and gamma_hat both vanish the residual decreases only
   // like the square root of the duality gap; this problem stops at 1.1e-8 with a gap of 3e-14.
   ConeSolverOptions options;
-  options.method    = ConeMethod::interior_point;
-  options.tolerance = 1e-7;
+  options.method                    = ConeMethod::interior_point;
+  options.interior_point.split_form = GetParam();
+  options.tolerance                 = 1e-7;
   std::ostringstream log;
   options.log = &log;
   ConeSolution solution;
@@ -330,8 +338,8 @@ TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint)
 
 TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
 {
-  // The Newton step solved through the velocity block with the stress eliminated (the default)
-  // or through the augmented matrix: the same directions
+  // The whole form's Newton step solved through the velocity block with the stress eliminated
+  // (its default) or through the augmented matrix: the same directions
   // up to rounding, so the same iterations and, to the tolerance, the same solution. A reduced
   // solve whose backward error cannot be brought within reduced_accuracy hands over to the
   // augmented matrix; with an unreachable accuracy that happens at the first solve, and every
@@ -345,6 +353,7 @@ TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
     ConeSolverOptions options;
     options.log                             = &log;
     options.method                          = ConeMethod::interior_point;
+    options.interior_point.split_form       = 0.;
     options.tolerance                       = 1e-7;
     options.max_outer_iterations            = iterations;
     options.interior_point.reduced_system   = reduced;
@@ -396,14 +405,15 @@ TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
   EXPECT_EQ(handed_stats.operator_applications, augmented_stats.operator_applications + 1);
 }
 
-TEST(ConeInteriorPoint, ItsStallRulesAreTheOptionsTunables)
+TEST_P(ConeInteriorPointForms, ItsStallRulesAreTheOptionsTunables)
 {
   // The coupled problem converges in about 20 iterations with the default tunables; each stall
   // rule, tightened through ConeSolverOptions::interior_point, ends it earlier and is named.
   const ConeProblemData data = coupled_random_problem();
   ConeSolverOptions     options;
-  options.method    = ConeMethod::interior_point;
-  options.tolerance = 1e-7;
+  options.method                    = ConeMethod::interior_point;
+  options.interior_point.split_form = GetParam();
+  options.tolerance                 = 1e-7;
   ConeSolution solution;
   ASSERT_TRUE(solve_cone_problem(data, options, solution).converged);
 
@@ -425,14 +435,15 @@ TEST(ConeInteriorPoint, ItsStallRulesAreTheOptionsTunables)
   EXPECT_EQ(stats.stall_reason, "2 iterations gained less than 100 % on the least residual");
 }
 
-TEST(ConeInteriorPoint, RejectsPointsOutsideItsScope)
+TEST_P(ConeInteriorPointForms, RejectsPointsOutsideItsScope)
 {
   // mu = 0 (K_0 is a ray) and Bi > 0 (truncated cone) are the fixed point's.
   for (const auto &[mu, Bi] : {std::pair{0., 0.}, std::pair{0.5, 0.1}})
     {
       const ConeProblemData data = single_point_problem({-1., 0.2, 0.}, mu, Bi);
       ConeSolverOptions     options;
-      options.method = ConeMethod::interior_point;
+      options.method                    = ConeMethod::interior_point;
+      options.interior_point.split_form = GetParam();
       ConeSolution solution;
       EXPECT_THROW(solve_cone_problem(data, options, solution), std::invalid_argument);
     }
@@ -444,10 +455,13 @@ TEST(ConeSolverStop, AStopRequestEndsEitherMethodWithItsBestIterate)
   // limit: not converged, stats.interrupted set, and a solution that is the least-residual
   // iterate (its stored residual is that of lambda and gamma returned).
   const ConeProblemData data = coupled_random_problem();
-  for (const ConeMethod method : {ConeMethod::fixed_point, ConeMethod::interior_point})
+  for (const auto &[method, split_form] :
+       {std::pair{ConeMethod::fixed_point, 0.}, std::pair{ConeMethod::interior_point, 0.},
+        std::pair{ConeMethod::interior_point, 1.}})
     {
       ConeSolverOptions options;
-      options.method         = method;
+      options.method                    = method;
+      options.interior_point.split_form = split_form;
       options.tolerance      = 1e-14; // not reached in the two iterations allowed
       unsigned int polls     = 0;
       options.stop_requested = [&polls] { return ++polls > 2; };
@@ -601,6 +615,9 @@ TEST(ConeSolverNames, TheCaseFilesNamesParseAndOthersAreRejected)
     EXPECT_EQ(parse_inner_solver(to_string(s)), s);
   EXPECT_THROW(parse_inner_solver("sor"), std::invalid_argument);
 }
+
+INSTANTIATE_TEST_SUITE_P(SplitAndWhole, ConeInteriorPointForms, ::testing::Values(1., 0.),
+                         [](const auto &info) { return info.param != 0. ? "split" : "whole"; });
 
 INSTANTIATE_TEST_SUITE_P(InnerSolvers,
                          ConeSolverAllInner,

@@ -1,0 +1,405 @@
+// Primal-dual interior point on the *split form* of the DP(mu, 0) problem (35) of Daviet &
+// Bertails-Descoubes 2016 (docs/solvers.md, "the split form"). The law of Corollary 1,
+//   lambda in K_mu,  gamma_hat = gamma + mu ||gamma_T|| e_N in K_{1/mu},  lambda . gamma_hat = 0,
+// is the same as the two complementarities
+//   gamma_N >= 0  _|_  lambda_N >= 0                                  (unilateral
+//   incompressibility) x = (t, gamma_T) in K_1  _|_  y = (mu lambda_N, lambda_T) in K_1  (maximal
+//   dissipation)
+// with an auxiliary t (t = ||gamma_T|| wherever lambda != 0): gamma_hat in K_{1/mu} is gamma_N >=
+// 0, and lambda . gamma_hat = lambda_N gamma_N + (mu lambda_N ||gamma_T|| + lambda_T . gamma_T) is
+// a sum of two terms >= 0. Unlike cone_interior_point.cc, whose Newton steps linearise De Saxce's
+// ||gamma_T||, the central path here is bilinear: a_i b_i = tau and x_i o y_i = tau e, with the
+// slacks a = gamma_N(u), x_T = gamma_T(u) held by residuals r_N = a - gamma_N(u), r_T = x_T -
+// gamma_T(u), and b = lambda_N.
+//
+// Each iteration is a Mehrotra predictor-corrector step with Nesterov-Todd scaling of the cone pair
+// (W x = W^-1 y = v, G = W^2). Eliminating the slacks and the stress point by point,
+//   dlambda = f - M dgamma,  M = [[c, 0], [mu c G_0T / G_00, S]],  c = b / a,
+//   S = G_TT - G_T0 G_0T / G_00,
+// leaves the velocity system (A + H^T M H) du = -r_m + H^T f (r_m = A u - H^T lambda - l),
+// unsymmetric through the friction cone's radius mu lambda_N (the incompressibility multiplier),
+// factorised by UMFPACK at every iteration. tau = gap / (2 n): each pair has degree 1.
+#include "solvers/cholmod_solver.h"
+#include "solvers/cone_problem.h"
+#include "solvers/interior_point_rules.h"
+#include "solvers/point_blocks.h"
+#include "solvers/soc.h"
+#include "solvers/solve_monitor.h"
+#include "solvers/umfpack_solver.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <stdexcept>
+
+namespace granflow::solvers
+{
+  namespace
+  {
+    using Vector = std::vector<double>;
+    using Clock  = std::chrono::steady_clock;
+
+    template <std::size_t n> class SplitInteriorPoint
+    {
+      using S      = detail::Soc<n>;
+      using Block  = typename S::Block;
+      using Matrix = typename S::Matrix;
+
+    public:
+      SplitInteriorPoint(const ConeProblemData &data, const ConeSolverOptions &options)
+          : data(data)
+          , options(options)
+          , n_u(data.A.n_rows)
+          , n_points(data.n_points())
+          , m(n_points * n)
+          , blocks(data)
+          , A_inv(data.A)
+      {
+        for (std::size_t i = 0; i < n_points; ++i)
+          if (!(data.mu[i] > 0.) || data.Bi[i] != 0.)
+            throw std::invalid_argument(
+                "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
+                "(use the Cadoux fixed point otherwise)");
+        blocks.build_reduced_pattern();
+      }
+
+      ConeSolverStats
+      solve(ConeSolution &solution)
+      {
+        ConeSolverStats stats;
+        const auto      t0 = Clock::now();
+        // The starting point: u = 0, lambda = e_N, the slacks a = 1 and x = e (off every cone's
+        // boundary; the residuals r_N, r_T take up the difference).
+        Vector u(n_u, 0.), lambda(m, 0.), a(n_points, 1.), x(m, 0.);
+        for (std::size_t i = 0; i < n_points; ++i)
+          lambda[i * n] = x[i * n] = 1.;
+
+        if (options.log)
+          *options.log << "  interior point on the split form (Mehrotra, Nesterov-Todd scaling)\n"
+                       << "   iter      residual           gap       primal         dual      step"
+                          "      time[s]\n";
+        const InteriorPointTunables &tune = options.interior_point;
+        detail::SolveMonitor         monitor(options, stats);
+        Vector                       best_u, best_lambda, best_gamma;
+        detail::StallRules           rules(tune);
+        double                       step = 0.;
+        for (;;)
+          {
+            evaluate(u, lambda, a, x);
+            // The residual of (35) at lambda, with the velocity of the momentum balance (35a): the
+            // iterate's u satisfies it only in the limit (r_m -> 0).
+            balanced_velocity(lambda, u_lambda, gamma_lambda);
+            const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
+            const bool   least   = monitor.record(
+                    cone_residual(data, options.residual, lambda, gamma_lambda), elapsed);
+            rules.record(stats.residual, stats.outer_iterations);
+            if (least)
+              {
+                best_u      = u_lambda;
+                best_lambda = lambda;
+                best_gamma  = gamma_lambda;
+              }
+            if (options.log)
+              *options.log << std::setw(7) << stats.outer_iterations << std::setw(14)
+                           << std::scientific << std::setprecision(4) << stats.residual
+                           << std::setw(14) << gap << std::setw(13) << primal_residual()
+                           << std::setw(13) << norm_inf(r_m) << std::setw(10) << std::fixed
+                           << std::setprecision(4) << step << std::setw(13) << std::setprecision(3)
+                           << elapsed << std::endl
+                           << std::defaultfloat;
+            if (monitor.finished(true))
+              break;
+            step = newton_step(u, lambda, a, x);
+            ++stats.outer_iterations;
+            if (rules.stalled(step, stats.outer_iterations))
+              {
+                stats.stalled      = true;
+                stats.stall_reason = rules.reason(factorization_failure);
+                break;
+              }
+          }
+        stats.time_solve            = std::chrono::duration<double>(Clock::now() - t0).count();
+        stats.operator_applications = factorizations;
+        stats.residual              = monitor.least_residual();
+        solution.u                  = std::move(best_u);
+        solution.lambda             = std::move(best_lambda);
+        solution.gamma              = std::move(best_gamma);
+        return stats;
+      }
+
+    private:
+      static double
+      norm_inf(const Vector &v)
+      {
+        double r = 0.;
+        for (const double x : v)
+          r = std::max(r, std::abs(x));
+        return r;
+      }
+
+      double
+      primal_residual() const
+      {
+        return std::max(norm_inf(r_N), norm_inf(r_T));
+      }
+
+      Block
+      block(const Vector &x, const std::size_t i) const
+      {
+        Block b;
+        std::copy_n(x.begin() + i * n, n, b.begin());
+        return b;
+      }
+
+      /// y = (mu lambda_N, lambda_T), the stress in the coordinates of K_1.
+      Block
+      y_block(const Vector &lambda, const std::size_t i) const
+      {
+        Block y = block(lambda, i);
+        y[0] *= data.mu[i];
+        return y;
+      }
+
+      /// u = A^-1 (H^T lambda + l) and gamma = H u + k.
+      void
+      balanced_velocity(const Vector &lambda, Vector &u, Vector &gamma) const
+      {
+        Vector rhs;
+        data.H.Tvmult(rhs, lambda);
+        for (std::size_t k = 0; k < n_u; ++k)
+          rhs[k] += data.l[k];
+        A_inv.solve(u, rhs);
+        data.H.vmult(gamma, u);
+        for (std::size_t k = 0; k < m; ++k)
+          gamma[k] += data.k[k];
+      }
+
+      /// gamma(u) = H u + k, r_m = A u - H^T lambda - l, r_N = a - gamma_N, r_T = x_T - gamma_T
+      /// (stored per point as blocks of n with r_T[i n] unused), and gap = a . b + x . y.
+      void
+      evaluate(const Vector &u, const Vector &lambda, const Vector &a, const Vector &x)
+      {
+        data.H.vmult(gamma_u, u);
+        for (std::size_t k = 0; k < m; ++k)
+          gamma_u[k] += data.k[k];
+        Vector Htl;
+        data.A.vmult(r_m, u);
+        data.H.Tvmult(Htl, lambda);
+        for (std::size_t k = 0; k < n_u; ++k)
+          r_m[k] -= Htl[k] + data.l[k];
+        r_N.resize(n_points);
+        r_T.assign(m, 0.);
+        gap = 0.;
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            r_N[i] = a[i] - gamma_u[i * n];
+            for (std::size_t j = 1; j < n; ++j)
+              r_T[i * n + j] = x[i * n + j] - gamma_u[i * n + j];
+            gap += a[i] * lambda[i * n] + S::dot(block(x, i), y_block(lambda, i));
+          }
+      }
+
+      /// Largest step keeping a, lambda_N, x and y interior, per point.
+      double
+      max_step(const Vector &a, const Vector &lambda, const Vector &x, const Vector &da,
+               const Vector &dlambda, const Vector &dx) const
+      {
+        double t = std::numeric_limits<double>::infinity();
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            if (da[i] < 0.)
+              t = std::min(t, -a[i] / da[i]);
+            if (dlambda[i * n] < 0.)
+              t = std::min(t, -lambda[i * n] / dlambda[i * n]);
+            t = std::min({t, S::max_step(block(x, i), block(dx, i)),
+                          S::max_step(y_block(lambda, i), y_block(dlambda, i))});
+          }
+        return t;
+      }
+
+      /// One Mehrotra predictor-corrector step; returns the step length taken (0: none).
+      double
+      newton_step(Vector &u, Vector &lambda, Vector &a, Vector &x)
+      {
+        // Per point: the scaling, v = W x, G = W^2, c = b / a, and M (the reduced block).
+        std::vector<Matrix> W(n_points), W_inv(n_points), G(n_points), M(n_points);
+        std::vector<Block>  v(n_points);
+        Vector              c(n_points);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            S::nesterov_todd(block(x, i), y_block(lambda, i), W[i], W_inv[i]);
+            G[i]       = S::multiply(W[i], W[i]);
+            v[i]       = S::apply(W[i], block(x, i));
+            c[i]       = lambda[i * n] / a[i];
+            M[i]       = Matrix{};
+            M[i][0][0] = c[i];
+            for (std::size_t p = 1; p < n; ++p)
+              {
+                M[i][p][0] = data.mu[i] * c[i] * G[i][p][0] / G[i][0][0];
+                for (std::size_t q = 1; q < n; ++q)
+                  M[i][p][q] = G[i][p][q] - G[i][p][0] * G[i][0][q] / G[i][0][0];
+              }
+          }
+        try
+          {
+            lu.factorize(blocks.reduced(M));
+            ++factorizations;
+          }
+        catch (const std::runtime_error &e)
+          {
+            factorization_failure = e.what(); // named in the stall reason
+            return 0.;
+          }
+
+        Vector du, dgamma, da(n_points), dlambda(m), dx(m), f(m), rhs, Htf;
+        // The direction for the complementarity right-hand sides rc1 (a_i db_i + b_i da_i = rc1_i)
+        // and rc2 (v o (W dx + W^-1 dy) = rc2).
+        const auto direction = [&](const Vector &rc1, const std::vector<Block> &rc2) {
+          std::vector<Block> Wq(n_points);
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              Wq[i]           = S::apply(W[i], S::arrow_solve(v[i], rc2[i]));
+              const double fN = rc1[i] / a[i] + c[i] * r_N[i];
+              const double y0 = (Wq[i][0] - data.mu[i] * fN) / G[i][0][0];
+              f[i * n]        = fN;
+              for (std::size_t p = 1; p < n; ++p)
+                {
+                  double fp = Wq[i][p] - G[i][p][0] * y0;
+                  for (std::size_t q = 1; q < n; ++q)
+                    fp += M[i][p][q] * r_T[i * n + q];
+                  f[i * n + p] = fp;
+                }
+            }
+          data.H.Tvmult(Htf, f);
+          rhs.resize(n_u);
+          for (std::size_t k = 0; k < n_u; ++k)
+            rhs[k] = Htf[k] - r_m[k];
+          lu.solve(du, rhs);
+          data.H.vmult(dgamma, du);
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              const Block g    = block(dgamma, i);
+              da[i]            = g[0] - r_N[i];
+              const double dlN = rc1[i] / a[i] - c[i] * da[i];
+              Block        d; // dx = (dt, dx_T)
+              for (std::size_t p = 1; p < n; ++p)
+                d[p] = g[p] - r_T[i * n + p];
+              double s = Wq[i][0] - data.mu[i] * dlN;
+              for (std::size_t p = 1; p < n; ++p)
+                s -= G[i][0][p] * d[p];
+              d[0] = s / G[i][0][0];
+              // dy = W q - G dx; its first entry is mu dlambda_N by the choice of dt
+              const Block Gd = S::apply(G[i], d);
+              dlambda[i * n] = dlN;
+              for (std::size_t p = 1; p < n; ++p)
+                dlambda[i * n + p] = Wq[i][p] - Gd[p];
+              std::copy(d.begin(), d.end(), dx.begin() + i * n);
+            }
+          for (const double d : du)
+            if (!std::isfinite(d))
+              return false;
+          return true;
+        };
+
+        const double       tau = gap / (2. * static_cast<double>(n_points));
+        Vector             rc1(n_points);
+        std::vector<Block> rc2(n_points);
+        for (std::size_t i = 0; i < n_points; ++i) // predictor: the affine direction
+          {
+            rc1[i] = -a[i] * lambda[i * n];
+            rc2[i] = S::product(v[i], v[i]);
+            for (double &r : rc2[i])
+              r = -r;
+          }
+        if (!direction(rc1, rc2))
+          return 0.;
+        const double t_affine   = std::min(1., max_step(a, lambda, x, da, dlambda, dx));
+        double       gap_affine = 0.;
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            gap_affine += (a[i] + t_affine * da[i]) * (lambda[i * n] + t_affine * dlambda[i * n]);
+            Block       xa = block(x, i), ya = y_block(lambda, i);
+            const Block dxa = block(dx, i), dya = y_block(dlambda, i);
+            for (std::size_t p = 0; p < n; ++p)
+              {
+                xa[p] += t_affine * dxa[p];
+                ya[p] += t_affine * dya[p];
+              }
+            gap_affine += S::dot(xa, ya);
+          }
+        const double centering = std::pow(std::clamp(gap_affine / gap, 0., 1.),
+                                          options.interior_point.centering_exponent);
+        for (std::size_t i = 0; i < n_points; ++i) // corrector
+          {
+            rc1[i] += centering * tau - da[i] * dlambda[i * n];
+            const Block second =
+                S::product(S::apply(W[i], block(dx, i)), S::apply(W_inv[i], y_block(dlambda, i)));
+            for (std::size_t p = 0; p < n; ++p)
+              rc2[i][p] -= second[p];
+            rc2[i][0] += centering * tau;
+          }
+        if (!direction(rc1, rc2))
+          return 0.;
+        double t = std::min(1., options.interior_point.step_fraction *
+                                    max_step(a, lambda, x, da, dlambda, dx));
+        // Rounding can still put a block on the boundary: halve until every block is interior.
+        const auto interior = [&](const double t) {
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              Block       xs = block(x, i), ys = y_block(lambda, i);
+              const Block dxs = block(dx, i), dys = y_block(dlambda, i);
+              for (std::size_t p = 0; p < n; ++p)
+                {
+                  xs[p] += t * dxs[p];
+                  ys[p] += t * dys[p];
+                }
+              if (!(a[i] + t * da[i] > 0.) || !S::interior(xs) || !S::interior(ys))
+                return false;
+            }
+          return true;
+        };
+        while (t > 1e-12 && !interior(t))
+          t *= 0.5;
+        if (t <= 1e-12)
+          return 0.;
+        for (std::size_t k = 0; k < n_u; ++k)
+          u[k] += t * du[k];
+        for (std::size_t i = 0; i < n_points; ++i)
+          a[i] += t * da[i];
+        for (std::size_t k = 0; k < m; ++k)
+          {
+            lambda[k] += t * dlambda[k];
+            x[k] += t * dx[k];
+          }
+        return t;
+      }
+
+      const ConeProblemData   &data;
+      const ConeSolverOptions &options;
+      const std::size_t        n_u, n_points, m;
+      detail::PointBlocks      blocks;
+      CholmodSolver            A_inv; // for the residual at lambda
+      UmfpackSolver            lu;
+      unsigned int             factorizations = 0;
+      std::string              factorization_failure;  // UMFPACK's message, if it failed
+      Vector                   gamma_u, r_m, r_N, r_T; // set by evaluate()
+      Vector                   u_lambda, gamma_lambda;
+      double                   gap = 0.;
+    };
+  } // namespace
+
+  ConeSolverStats
+  solve_cone_problem_split_interior_point(const ConeProblemData   &data,
+                                          const ConeSolverOptions &options, ConeSolution &solution)
+  {
+    if (data.block_size == 3)
+      return SplitInteriorPoint<3>(data, options).solve(solution);
+    if (data.block_size == 6)
+      return SplitInteriorPoint<6>(data, options).solve(solution);
+    throw std::invalid_argument("solve_cone_problem: block size must be 3 (2D) or 6 (3D)");
+  }
+} // namespace granflow::solvers
