@@ -93,11 +93,12 @@ namespace granflow::solvers
   /// docs/solvers.md.
   struct InteriorPointTunables
   {
-    /// 1: the interior point on the split form of the law (cone_split_interior_point.cc), whose
-    /// central path is bilinear; 0: on the whole complementarity of Corollary 1, De Saxce's term
-    /// linearised in each step (cone_interior_point.cc). The split form uses step_fraction,
-    /// centering_exponent and the stall rules; the other tunables are the whole form's.
-    double split_form = 0.;
+    /// 1 (the default since session 24): the interior point on the split form of the law
+    /// (cone_split_interior_point.cc), whose central path is bilinear; 0: on the whole
+    /// complementarity of Corollary 1, De Saxce's term linearised in each step
+    /// (cone_interior_point.cc). The split form uses step_fraction, centering_exponent and the
+    /// stall rules; the other tunables are the whole form's. (docs/solvers.md)
+    double split_form = 1.;
     /// Fraction of the longest step that keeps every block interior.
     double step_fraction = 0.99;
     /// Mehrotra's centring: sigma = (gap after the affine step / gap)^centering_exponent.
@@ -180,7 +181,8 @@ namespace granflow::solvers
   /// The whole problem (35) by a primal-dual interior-point method (cone_interior_point.cc): the
   /// complementarity of Corollary 1 followed along its central path, De Saxce's term mu ||gamma_T||
   /// linearised inside each Newton step. Requires mu > 0 and Bi = 0 at every point (throws
-  /// std::invalid_argument otherwise). Called by solve_cone_problem for ConeMethod::interior_point.
+  /// std::invalid_argument otherwise). Called by solve_cone_problem for ConeMethod::interior_point
+  /// with InteriorPointTunables::split_form = 0.
   ConeSolverStats
   solve_cone_problem_interior_point(const ConeProblemData   &data,
                                     const ConeSolverOptions &options,

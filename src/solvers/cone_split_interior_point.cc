@@ -383,7 +383,7 @@ namespace granflow::solvers
       const std::size_t        n_u, n_points, m;
       detail::PointBlocks      blocks;
       CholmodSolver            A_inv; // for the residual at lambda
-      UmfpackSolver            lu;
+      UmfpackSolver            lu{true};
       unsigned int             factorizations = 0;
       std::string              factorization_failure;  // UMFPACK's message, if it failed
       Vector                   gamma_u, r_m, r_N, r_T; // set by evaluate()
