@@ -93,12 +93,12 @@ namespace granflow::solvers
   /// docs/solvers.md.
   struct InteriorPointTunables
   {
-    /// 1 (the default since session 24): the interior point on the split form of the law
-    /// (cone_split_interior_point.cc), whose central path is bilinear; 0: on the whole
-    /// complementarity of Corollary 1, De Saxce's term linearised in each step
-    /// (cone_interior_point.cc). The split form uses step_fraction, centering_exponent and the
-    /// stall rules; the other tunables are the whole form's. (docs/solvers.md)
-    double split_form = 1.;
+    /// 1: the interior point on the split form of the law (cone_split_interior_point.cc), whose
+    /// central path is bilinear; 0 (the default): on the whole complementarity of Corollary 1,
+    /// De Saxce's term linearised in each step (cone_interior_point.cc). The split form uses
+    /// step_fraction, centering_exponent and the stall rules; the other tunables are the whole
+    /// form's. Neither form is better on every problem measured (docs/solvers.md, session 24).
+    double split_form = 0.;
     /// Fraction of the longest step that keeps every block interior.
     double step_fraction = 0.99;
     /// Mehrotra's centring: sigma = (gap after the affine step / gap)^centering_exponent.

@@ -137,13 +137,14 @@ namespace granflow::dp
                         "triangle (Property 3); P1: continuous P1 stress, constraints at the nodes "
                         "(trapezoidal rule, 4.3.5).",
                         Selection("P1d|P1"));
-      prm.add_parameter("Method", s.method,
-                        "fixed point: Cadoux's fixed point on s = mu |gamma_T| (Algorithm 1), each "
-                        "step a cone QP solved by the inner solver; any mu >= 0, Bi >= 0. interior "
-                        "point: primal-dual interior point on the split form of the law (mu > 0, "
-                        "Bi = 0 only); reaches tight tolerances where the fixed point stalls, but "
-                        "can lose its central path on fine meshes (docs/solvers.md).",
-                        Selection("fixed point|interior point"));
+      prm.add_parameter(
+          "Method", s.method,
+          "fixed point: Cadoux's fixed point on s = mu |gamma_T| (Algorithm 1), each "
+          "step a cone QP solved by the inner solver; any mu >= 0, Bi >= 0. interior "
+          "point: primal-dual interior point on the whole problem (mu > 0, Bi = 0 "
+          "only); reaches tight tolerances where the fixed point stalls, but can lose "
+          "its central path on fine meshes (docs/solvers.md).",
+          Selection("fixed point|interior point"));
       prm.add_parameter("Inner solver", s.inner_solver,
                         "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
                         "spg (spectral projected gradient).",
