@@ -93,12 +93,16 @@ namespace granflow::solvers
   /// docs/solvers.md.
   struct InteriorPointTunables
   {
-    /// 1: the interior point on the split form of the law (cone_split_interior_point.cc), whose
-    /// central path is bilinear; 0 (the default): on the whole complementarity of Corollary 1,
-    /// De Saxce's term linearised in each step (cone_interior_point.cc). The split form uses
-    /// step_fraction, centering_exponent and the stall rules; the other tunables are the whole
-    /// form's. Neither form is better on every problem measured (docs/solvers.md, session 24).
-    double split_form = 0.;
+    /// 1 (the default): the interior point on the split form of the law
+    /// (cone_split_interior_point.cc), whose central path is bilinear; 0: on the whole
+    /// complementarity of Corollary 1, De Saxce's term linearised in each step
+    /// (cone_interior_point.cc). The split form uses step_fraction, centering_exponent and the
+    /// stall rules; the other tunables are the whole form's. Neither form is better on every
+    /// problem measured (docs/solvers.md, session 24), so with whole_form_after_stall = 1 a split
+    /// solve that stalls is followed by a whole one from its own start, in the time left, and the
+    /// better of the two iterates is returned.
+    double split_form             = 1.;
+    double whole_form_after_stall = 1.;
     /// Fraction of the longest step that keeps every block interior.
     double step_fraction = 0.99;
     /// Mehrotra's centring: sigma = (gap after the affine step / gap)^centering_exponent.
@@ -189,7 +193,8 @@ namespace granflow::solvers
                                     ConeSolution            &solution);
 
   /// The same problem by an interior point on the split form of the law (see
-  /// InteriorPointTunables::split_form and cone_split_interior_point.cc); same requirements.
+  /// InteriorPointTunables::split_form and cone_split_interior_point.cc), alone; same
+  /// requirements. solve_cone_problem follows it with the whole form where it stalls.
   ConeSolverStats
   solve_cone_problem_split_interior_point(const ConeProblemData   &data,
                                           const ConeSolverOptions &options, ConeSolution &solution);

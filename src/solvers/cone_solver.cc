@@ -555,15 +555,61 @@ namespace granflow::solvers
       W.velocity_of(solution.u, solution.lambda);
       return stats;
     }
+
+    /// The interior point in the form InteriorPointTunables chooses: the split form, and, where it
+    /// stalls, the whole form from its own start in the time left; the iterate of least residual
+    /// is returned, and the statistics are the two solves' together.
+    ConeSolverStats
+    solve_interior_point(const ConeProblemData &data, const ConeSolverOptions &options,
+                         ConeSolution &solution)
+    {
+      const InteriorPointTunables &tune = options.interior_point;
+      if (tune.split_form == 0.)
+        return solve_cone_problem_interior_point(data, options, solution);
+      ConeSolverStats split = solve_cone_problem_split_interior_point(data, options, solution);
+      if (!split.stalled || tune.whole_form_after_stall == 0. ||
+          (options.max_seconds > 0. && split.time_solve >= options.max_seconds))
+        return split;
+      ConeSolverOptions whole_options         = options;
+      whole_options.interior_point.split_form = 0.;
+      if (options.max_seconds > 0.)
+        whole_options.max_seconds = options.max_seconds - split.time_solve;
+      if (options.progress)
+        whole_options.progress = [&](const unsigned int iteration, const double residual) {
+          options.progress(split.outer_iterations + iteration, residual);
+        };
+      if (options.log)
+        *options.log << "  the split form stalled at " << split.residual << " ("
+                     << split.stall_reason << "): the whole form, from its own start\n";
+      ConeSolution    whole_solution;
+      ConeSolverStats stats =
+          solve_cone_problem_interior_point(data, whole_options, whole_solution);
+      if (stats.residual < split.residual)
+        solution = std::move(whole_solution);
+      else
+        stats.residual = split.residual;
+      if (stats.stalled)
+        stats.stall_reason =
+            "split form: " + split.stall_reason + "; then whole form: " + stats.stall_reason;
+      stats.outer_iterations += split.outer_iterations;
+      stats.operator_applications += split.operator_applications;
+      stats.time_factorize += split.time_factorize;
+      for (double &t : stats.time_history)
+        t += split.time_solve;
+      stats.time_solve += split.time_solve;
+      stats.residual_history.insert(stats.residual_history.begin(), split.residual_history.begin(),
+                                    split.residual_history.end());
+      stats.time_history.insert(stats.time_history.begin(), split.time_history.begin(),
+                                split.time_history.end());
+      return stats;
+    }
   } // namespace
 
   ConeSolverStats
   solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
   {
     if (options.method == ConeMethod::interior_point)
-      return options.interior_point.split_form != 0.
-                 ? solve_cone_problem_split_interior_point(data, options, solution)
-                 : solve_cone_problem_interior_point(data, options, solution);
+      return solve_interior_point(data, options, solution);
     if (data.block_size == 3)
       return solve_blocks<3>(data, options, solution);
     if (data.block_size == 6)

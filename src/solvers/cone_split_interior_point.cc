@@ -65,6 +65,10 @@ namespace granflow::solvers
                 "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
                 "(use the Cadoux fixed point otherwise)");
         blocks.build_reduced_pattern();
+        // UMFPACK's own refinement (2 steps by default) changes neither the iterations nor the
+        // residual's first 6 digits on the 673-vertex silo and the default cylinder, and costs a
+        // quarter of their time.
+        lu.set_refinement_steps(0);
       }
 
       ConeSolverStats

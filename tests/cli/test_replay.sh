@@ -77,12 +77,13 @@ assert len(r) == 1 and r[0]["interrupted"] and not r[0]["converged"], r' int.jso
 else fail "ctrl-c prints the measurements so far" "exit $got"; cat int.json int.err; fi
 
 # The solvers' tunables, set without recompiling: each interior-point step counted short, the
-# solve stalls after one, says why, and the JSON records the setting.
+# split form stalls after one, then the whole form after one, each says why, and the JSON records
+# the setting.
 check tune 0 '"interior_point.short_steps": 1.0' env \
   GRANFLOW_REPLAY_TUNE="interior_point.short_step=2, interior_point.short_steps=1" \
   "$REPLAY" bagnold.bin 1e-6 ip
-if grep -q '"stall_reason": "1 successive steps were shorter than 2' out.txt &&
-  grep -q '"fixed_point_iterations": 1,' out.txt; then pass "tunables reach the solver"
+if grep -q '"stall_reason": "split form: 1 successive steps were shorter than 2 .*; then whole form: 1 successive steps were shorter than 2' out.txt &&
+  grep -q '"fixed_point_iterations": 2,' out.txt; then pass "tunables reach the solver"
 else fail "tunables reach the solver"; cat out.txt; fi
 check tune-unknown 2 "GRANFLOW_REPLAY_TUNE: 'interior_point.short_stepz=2' is not name=value with a known name" \
   env GRANFLOW_REPLAY_TUNE="interior_point.short_stepz=2" "$REPLAY" bagnold.bin

@@ -411,9 +411,10 @@ TEST_P(ConeInteriorPointForms, ItsStallRulesAreTheOptionsTunables)
   // rule, tightened through ConeSolverOptions::interior_point, ends it earlier and is named.
   const ConeProblemData data = coupled_random_problem();
   ConeSolverOptions     options;
-  options.method                    = ConeMethod::interior_point;
-  options.interior_point.split_form = GetParam();
-  options.tolerance                 = 1e-7;
+  options.method                                = ConeMethod::interior_point;
+  options.interior_point.split_form             = GetParam();
+  options.interior_point.whole_form_after_stall = 0.; // each form alone
+  options.tolerance                             = 1e-7;
   ConeSolution solution;
   ASSERT_TRUE(solve_cone_problem(data, options, solution).converged);
 
@@ -433,6 +434,55 @@ TEST_P(ConeInteriorPointForms, ItsStallRulesAreTheOptionsTunables)
   EXPECT_TRUE(stats.stalled);
   EXPECT_EQ(stats.outer_iterations, 2u);
   EXPECT_EQ(stats.stall_reason, "2 iterations gained less than 100 % on the least residual");
+}
+
+TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
+{
+  // The default: the split form, and where it stalls the whole form from its own start; the
+  // iterate of least residual is returned, with the two solves' statistics together.
+  const ConeProblemData data = coupled_random_problem();
+  ConeSolverOptions     options;
+  options.method    = ConeMethod::interior_point;
+  options.tolerance = 1e-7;
+  std::ostringstream log;
+  options.log = &log;
+  ConeSolution solution;
+  auto         stats = solve_cone_problem(data, options, solution);
+  ASSERT_TRUE(stats.converged) << log.str();
+  EXPECT_EQ(log.str().find("the whole form"), std::string::npos); // the split form converged
+
+  // Both forms made to stall after 2 iterations without a gain; each alone, then the default.
+  ConeSolverOptions stalling                    = options;
+  stalling.interior_point.stagnation_iterations = 2;
+  stalling.interior_point.stagnation_ratio      = 0.;
+  ConeSolverOptions split_only = stalling, whole_only = stalling;
+  split_only.interior_point.whole_form_after_stall = 0.;
+  whole_only.interior_point.split_form             = 0.;
+  ConeSolution split_solution, whole_solution;
+  const auto   split = solve_cone_problem(data, split_only, split_solution);
+  const auto   whole = solve_cone_problem(data, whole_only, whole_solution);
+  ASSERT_TRUE(split.stalled && whole.stalled);
+  log.str("");
+  stats = solve_cone_problem(data, stalling, solution);
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_FALSE(stats.converged);
+  EXPECT_EQ(stats.outer_iterations, split.outer_iterations + whole.outer_iterations);
+  EXPECT_EQ(stats.operator_applications, split.operator_applications + whole.operator_applications);
+  EXPECT_EQ(stats.residual, std::min(split.residual, whole.residual));
+  EXPECT_EQ(stats.residual, cone_residual(data, options.residual, solution.lambda, solution.gamma));
+  EXPECT_EQ(solution.u, split.residual <= whole.residual ? split_solution.u : whole_solution.u);
+  EXPECT_EQ(stats.stall_reason, "split form: 2 iterations gained less than 100 % on the least "
+                                "residual; then whole form: 2 iterations gained less than 100 % "
+                                "on the least residual");
+  ASSERT_EQ(stats.residual_history.size(),
+            split.residual_history.size() + whole.residual_history.size());
+  EXPECT_TRUE(std::is_sorted(stats.time_history.begin(), stats.time_history.end()));
+  EXPECT_NE(log.str().find("  the split form stalled at "), std::string::npos) << log.str();
+
+  // Without the whole form after a stall, the split form's own statistics.
+  stats = solve_cone_problem(data, split_only, solution);
+  EXPECT_EQ(stats.outer_iterations, split.outer_iterations);
+  EXPECT_EQ(stats.residual, split.residual);
 }
 
 TEST_P(ConeInteriorPointForms, RejectsPointsOutsideItsScope)
