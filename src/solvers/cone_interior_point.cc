@@ -24,7 +24,7 @@
 // get there the augmented matrix itself is factorised (diagonal pivots) for the rest of the solve.
 #include "rheology/drucker_prager.h"
 #include "solvers/cone_problem.h"
-#include "solvers/interior_point_rules.h"
+#include "solvers/interior_point_loop.h"
 #include "solvers/point_blocks.h"
 #include "solvers/soc.h"
 #include "solvers/solve_monitor.h"
@@ -64,11 +64,7 @@ namespace granflow::solvers
           , blocks(data)
           , lu(true)
       {
-        for (std::size_t i = 0; i < n_points; ++i)
-          if (!(data.mu[i] > 0.) || data.Bi[i] != 0.)
-            throw std::invalid_argument(
-                "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
-                "(use the Cadoux fixed point otherwise)");
+        detail::check_interior_point_scope(data);
         build_pattern();
         if (reduced())
           {
@@ -80,66 +76,61 @@ namespace granflow::solvers
       ConeSolverStats
       solve(ConeSolution &solution)
       {
-        ConeSolverStats stats;
-        const auto      t0 = Clock::now();
-        Vector          u, sl(m), z(m);
+        const auto t0 = Clock::now();
         initial_point(u, sl, z); // no warm start: interior points do not profit from one
-
         if (options.log)
           *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
                        << "   iter      residual           gap       primal         dual      step"
                           "      time[s]\n";
         log_hand_over(0);
-        const InteriorPointTunables &tune = options.interior_point;
-        detail::SolveMonitor monitor(options, stats);
-        Vector               best_u, best_lambda, best_gamma;
-        detail::StallRules           rules(tune);
-        double                       step = 0.;
-        for (;;)
-          {
-            evaluate(u, sl, z);
-            const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-            const bool   least =
-                monitor.record(cone_residual(data, options.residual, lambda_z, gamma_u), elapsed);
-            rules.record(stats.residual, stats.outer_iterations);
-            if (least)
-              {
-                best_u      = u;
-                best_lambda = lambda_z;
-                best_gamma  = gamma_u;
-              }
-            if (options.log)
-              *options.log << std::setw(7) << stats.outer_iterations << std::setw(14)
-                           << std::scientific << std::setprecision(4) << stats.residual
-                           << std::setw(14) << gap << std::setw(13) << norm_inf(r_z)
-                           << std::setw(13) << norm_inf(r_x) << std::setw(10) << std::fixed
-                           << std::setprecision(4) << step << std::setw(13) << std::setprecision(3)
-                           << elapsed << std::endl
-                           << std::defaultfloat;
-            // An iteration (one factorisation) is not interrupted: none is started that would,
-            // at the last one's duration, end past the time limit.
-            if (monitor.finished(true))
-              break;
-            step = newton_step(u, sl, z);
-            ++stats.outer_iterations;
-            log_hand_over(stats.outer_iterations);
-            // No step keeps the iterate interior (rounding has taken over), or the iterates have
-            // left the central path and only crawl, or the residual stagnates: stop with the best
-            // iterate.
-            if (rules.stalled(step, stats.outer_iterations))
-              {
-                stats.stalled      = true;
-                stats.stall_reason = rules.reason(factorization_failure);
-                break;
-              }
-          }
-        stats.time_solve            = std::chrono::duration<double>(Clock::now() - t0).count();
-        stats.operator_applications = factorizations;
-        stats.residual              = monitor.least_residual();
-        solution.u                  = std::move(best_u);
-        solution.lambda             = std::move(best_lambda);
-        solution.gamma              = std::move(best_gamma);
-        return stats;
+        return detail::run_interior_point(*this, options, solution, t0);
+      }
+
+      // The iterate's side of detail::run_interior_point.
+      double
+      residual()
+      {
+        evaluate(u, sl, z);
+        return cone_residual(data, options.residual, lambda_z, gamma_u);
+      }
+
+      void
+      keep(ConeSolution &solution) const
+      {
+        solution.u      = u;
+        solution.lambda = lambda_z;
+        solution.gamma  = gamma_u;
+      }
+
+      void
+      log_columns(std::ostream &log) const
+      {
+        log << std::setw(14) << gap << std::setw(13) << detail::norm_inf(r_z) << std::setw(13)
+            << detail::norm_inf(r_x);
+      }
+
+      double
+      newton_step()
+      {
+        return newton_step(u, sl, z);
+      }
+
+      void
+      stepped(const unsigned int iteration)
+      {
+        log_hand_over(iteration);
+      }
+
+      const std::string &
+      failure() const
+      {
+        return factorization_failure;
+      }
+
+      unsigned int
+      n_factorizations() const
+      {
+        return factorizations;
       }
 
     private:
@@ -160,15 +151,6 @@ namespace granflow::solvers
       D(const std::size_t k) const
       {
         return k % n == 0 ? 1. : data.mu[k / n];
-      }
-
-      static double
-      norm_inf(const Vector &v)
-      {
-        double r = 0.;
-        for (const double x : v)
-          r = std::max(r, std::abs(x));
-        return r;
       }
 
       /// Point i's block of x, whose points start at `offset`.
@@ -495,7 +477,7 @@ namespace granflow::solvers
           v = -v;
         const double margin = options.interior_point.initial_margin;
         make_interior(sl, margin);
-        make_interior(z, margin * std::max(1., norm_inf(z)));
+        make_interior(z, margin * std::max(1., detail::norm_inf(z)));
       }
 
       /// Largest step in [0, 1] along (dsl, dz) that keeps every block interior.
@@ -655,6 +637,7 @@ namespace granflow::solvers
       bool                             hand_over_logged = false;
       unsigned int                     factorizations = 0;
       std::string                      factorization_failure; // UMFPACK's message, if it failed
+      Vector                           u, sl, z;              // the iterate
       Vector                           gamma_u, lambda_z, r_x, r_z; // set by evaluate()
       double                           gap = 0.;
     };

@@ -21,7 +21,7 @@
 // factorised by UMFPACK at every iteration. tau = gap / (2 n): each pair has degree 1.
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
-#include "solvers/interior_point_rules.h"
+#include "solvers/interior_point_loop.h"
 #include "solvers/point_blocks.h"
 #include "solvers/soc.h"
 #include "solvers/solve_monitor.h"
@@ -59,11 +59,7 @@ namespace granflow::solvers
           , blocks(data)
           , A_inv(data.A)
       {
-        for (std::size_t i = 0; i < n_points; ++i)
-          if (!(data.mu[i] > 0.) || data.Bi[i] != 0.)
-            throw std::invalid_argument(
-                "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
-                "(use the Cadoux fixed point otherwise)");
+        detail::check_interior_point_scope(data);
         blocks.build_reduced_pattern();
         // UMFPACK's own refinement (2 steps by default) changes neither the iterations nor the
         // residual's first 6 digits on the 673-vertex silo and the default cylinder, and costs a
@@ -74,81 +70,76 @@ namespace granflow::solvers
       ConeSolverStats
       solve(ConeSolution &solution)
       {
-        ConeSolverStats stats;
-        const auto      t0 = Clock::now();
+        const auto t0 = Clock::now();
         // The starting point: u = 0, lambda = e_N, the slacks a = 1 and x = e (off every cone's
         // boundary; the residuals r_N, r_T take up the difference).
-        Vector u(n_u, 0.), lambda(m, 0.), a(n_points, 1.), x(m, 0.);
+        u.assign(n_u, 0.);
+        lambda.assign(m, 0.);
+        a.assign(n_points, 1.);
+        x.assign(m, 0.);
         for (std::size_t i = 0; i < n_points; ++i)
           lambda[i * n] = x[i * n] = 1.;
-
         if (options.log)
           *options.log << "  interior point on the split form (Mehrotra, Nesterov-Todd scaling)\n"
                        << "   iter      residual           gap       primal         dual      step"
                           "      time[s]\n";
-        const InteriorPointTunables &tune = options.interior_point;
-        detail::SolveMonitor         monitor(options, stats);
-        Vector                       best_u, best_lambda, best_gamma;
-        detail::StallRules           rules(tune);
-        double                       step = 0.;
-        for (;;)
-          {
-            evaluate(u, lambda, a, x);
-            // The residual of (35) at lambda, with the velocity of the momentum balance (35a): the
-            // iterate's u satisfies it only in the limit (r_m -> 0).
-            balanced_velocity(lambda, u_lambda, gamma_lambda);
-            const double elapsed = std::chrono::duration<double>(Clock::now() - t0).count();
-            const bool   least   = monitor.record(
-                    cone_residual(data, options.residual, lambda, gamma_lambda), elapsed);
-            rules.record(stats.residual, stats.outer_iterations);
-            if (least)
-              {
-                best_u      = u_lambda;
-                best_lambda = lambda;
-                best_gamma  = gamma_lambda;
-              }
-            if (options.log)
-              *options.log << std::setw(7) << stats.outer_iterations << std::setw(14)
-                           << std::scientific << std::setprecision(4) << stats.residual
-                           << std::setw(14) << gap << std::setw(13) << primal_residual()
-                           << std::setw(13) << norm_inf(r_m) << std::setw(10) << std::fixed
-                           << std::setprecision(4) << step << std::setw(13) << std::setprecision(3)
-                           << elapsed << std::endl
-                           << std::defaultfloat;
-            if (monitor.finished(true))
-              break;
-            step = newton_step(u, lambda, a, x);
-            ++stats.outer_iterations;
-            if (rules.stalled(step, stats.outer_iterations))
-              {
-                stats.stalled      = true;
-                stats.stall_reason = rules.reason(factorization_failure);
-                break;
-              }
-          }
-        stats.time_solve            = std::chrono::duration<double>(Clock::now() - t0).count();
-        stats.operator_applications = factorizations;
-        stats.residual              = monitor.least_residual();
-        solution.u                  = std::move(best_u);
-        solution.lambda             = std::move(best_lambda);
-        solution.gamma              = std::move(best_gamma);
-        return stats;
+        return detail::run_interior_point(*this, options, solution, t0);
       }
 
-    private:
-      static double
-      norm_inf(const Vector &v)
+      // The iterate's side of detail::run_interior_point.
+      double
+      residual()
       {
-        double r = 0.;
-        for (const double x : v)
-          r = std::max(r, std::abs(x));
-        return r;
+        evaluate(u, lambda, a, x);
+        // The residual of (35) at lambda, with the velocity of the momentum balance (35a): the
+        // iterate's u satisfies it only in the limit (r_m -> 0).
+        balanced_velocity(lambda, u_lambda, gamma_lambda);
+        return cone_residual(data, options.residual, lambda, gamma_lambda);
+      }
+
+      void
+      keep(ConeSolution &solution) const
+      {
+        solution.u      = u_lambda;
+        solution.lambda = lambda;
+        solution.gamma  = gamma_lambda;
+      }
+
+      void
+      log_columns(std::ostream &log) const
+      {
+        log << std::setw(14) << gap << std::setw(13) << primal_residual() << std::setw(13)
+            << detail::norm_inf(r_m);
       }
 
       double
+      newton_step()
+      {
+        return newton_step(u, lambda, a, x);
+      }
+
+      void
+      stepped(unsigned int)
+      {
+      }
+
+      const std::string &
+      failure() const
+      {
+        return factorization_failure;
+      }
+
+      unsigned int
+      n_factorizations() const
+      {
+        return factorizations;
+      }
+
+    private:
+      double
       primal_residual() const
       {
-        return std::max(norm_inf(r_N), norm_inf(r_T));
+        return std::max(detail::norm_inf(r_N), detail::norm_inf(r_T));
       }
 
       Block
@@ -390,6 +381,7 @@ namespace granflow::solvers
       UmfpackSolver            lu{true};
       unsigned int             factorizations = 0;
       std::string              factorization_failure;  // UMFPACK's message, if it failed
+      Vector                   u, lambda, a, x;        // the iterate
       Vector                   gamma_u, r_m, r_N, r_T; // set by evaluate()
       Vector                   u_lambda, gamma_lambda;
       double                   gap = 0.;

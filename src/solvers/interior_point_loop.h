@@ -1,0 +1,176 @@
+// What the two interior points share (cone_interior_point.cc on the whole law,
+// cone_split_interior_point.cc on its split form): their scope, their stall rules with the reason
+// they give in words, and their outer loop.
+#pragma once
+
+#include "solvers/cone_problem.h"
+#include "solvers/solve_monitor.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace granflow::solvers::detail
+{
+  inline double
+  norm_inf(const std::vector<double> &v)
+  {
+    double r = 0.;
+    for (const double x : v)
+      r = std::max(r, std::abs(x));
+    return r;
+  }
+
+  /// Throws std::invalid_argument unless mu > 0 and Bi = 0 at every point.
+  inline void
+  check_interior_point_scope(const ConeProblemData &data)
+  {
+    for (std::size_t i = 0; i < data.n_points(); ++i)
+      if (!(data.mu[i] > 0.) || data.Bi[i] != 0.)
+        throw std::invalid_argument(
+            "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
+            "(use the Cadoux fixed point otherwise)");
+  }
+
+  /// A tunable's value as a user writes it: 1e-4 (not 0.0001), 0.5, 3.
+  inline std::string
+  as_written(const double v)
+  {
+    std::ostringstream s;
+    if (v != 0. && std::abs(v) < 1e-3)
+      {
+        const int    e = static_cast<int>(std::floor(std::log10(std::abs(v))));
+        const double m = v / std::pow(10., e);
+        s << std::setprecision(3) << m << 'e' << e;
+      }
+    else
+      s << v;
+    return s.str();
+  }
+
+  /// InteriorPointTunables' stall rules: a step of 0 (no step keeps the iterate interior),
+  /// `short_steps` successive steps shorter than `short_step`, or `stagnation_iterations`
+  /// iterations without bringing the residual below `stagnation_ratio` times its value at the last
+  /// such gain.
+  class StallRules
+  {
+  public:
+    explicit StallRules(const InteriorPointTunables &tune)
+        : tune(tune)
+    {
+    }
+
+    /// The residual of the iterate reached after `iteration` steps.
+    void
+    record(const double residual, const unsigned int iteration)
+    {
+      if (residual < tune.stagnation_ratio * progress_mark)
+        {
+          progress_mark      = residual;
+          progress_iteration = iteration;
+        }
+    }
+
+    /// After the step of length `step` that made `iteration` steps: whether the solve stalls.
+    bool
+    stalled(const double step, const unsigned int iteration)
+    {
+      last_step   = step;
+      short_steps = step < tune.short_step ? short_steps + 1 : 0;
+      return step == 0. || short_steps == tune.short_steps ||
+             iteration - progress_iteration >= tune.stagnation_iterations;
+    }
+
+    /// Which rule ended the solve, in words; `factorization_failure`: UMFPACK's message, if a
+    /// Newton matrix could not be factorised (which the step of 0 then stands for).
+    std::string
+    reason(const std::string &factorization_failure) const
+    {
+      std::ostringstream s;
+      if (!factorization_failure.empty())
+        s << "the Newton matrix could not be factorised (" << factorization_failure << ")";
+      else if (last_step == 0.)
+        s << "no step kept the iterate interior (rounding)";
+      else if (short_steps == tune.short_steps)
+        s << tune.short_steps << " successive steps were shorter than "
+          << as_written(tune.short_step) << " (the iterates left the central path)";
+      else
+        s << tune.stagnation_iterations << " iterations gained less than "
+          << as_written(100. * (1. - tune.stagnation_ratio)) << " % on the least residual";
+      return s.str();
+    }
+
+  private:
+    const InteriorPointTunables &tune;
+    unsigned int                 short_steps = 0, progress_iteration = 0;
+    double                       progress_mark = std::numeric_limits<double>::infinity();
+    double                       last_step     = 0.;
+  };
+
+  /// The outer loop of both interior points, from the iterate `method` holds: each iterate's
+  /// residual is recorded and logged, the least one's iterate kept and returned in `solution`,
+  /// and the loop ends on the options' tolerance and limits or on the stall rules. `t0`: when the
+  /// solve began. `Method` provides
+  ///   double residual()                    evaluates the current iterate, returns its residual
+  ///   void   keep(ConeSolution &) const    copies the current iterate's u, lambda and gamma
+  ///   void   log_columns(std::ostream &)   its gap (width 14), primal and dual residuals (13)
+  ///   double newton_step()                 steps; returns the step length (0: none)
+  ///   void   stepped(unsigned int)         after the step that made that many (may log)
+  ///   std::string  failure()               UMFPACK's message if a factorisation failed
+  ///   unsigned int n_factorizations()
+  template <typename Method>
+  ConeSolverStats
+  run_interior_point(Method &method, const ConeSolverOptions &options, ConeSolution &solution,
+                     const std::chrono::steady_clock::time_point t0)
+  {
+    ConeSolverStats stats;
+    SolveMonitor    monitor(options, stats);
+    StallRules      rules(options.interior_point);
+    double          step = 0.;
+    for (;;)
+      {
+        const double residual = method.residual();
+        const double elapsed =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+        if (monitor.record(residual, elapsed))
+          method.keep(solution);
+        rules.record(stats.residual, stats.outer_iterations);
+        if (options.log)
+          {
+            std::ostream &log = *options.log;
+            log << std::setw(7) << stats.outer_iterations << std::setw(14) << std::scientific
+                << std::setprecision(4) << stats.residual;
+            method.log_columns(log);
+            log << std::setw(10) << std::fixed << std::setprecision(4) << step << std::setw(13)
+                << std::setprecision(3) << elapsed << std::endl
+                << std::defaultfloat;
+          }
+        // An iteration (one factorisation) is not interrupted: none is started that would, at
+        // the last one's duration, end past the time limit.
+        if (monitor.finished(true))
+          break;
+        step = method.newton_step();
+        ++stats.outer_iterations;
+        method.stepped(stats.outer_iterations);
+        // No step keeps the iterate interior (rounding has taken over), or the iterates have left
+        // the central path and only crawl, or the residual stagnates: stop with the best iterate.
+        if (rules.stalled(step, stats.outer_iterations))
+          {
+            stats.stalled      = true;
+            stats.stall_reason = rules.reason(method.failure());
+            break;
+          }
+      }
+    stats.time_solve = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats.operator_applications = method.n_factorizations();
+    stats.residual              = monitor.least_residual();
+    return stats;
+  }
+} // namespace granflow::solvers::detail
