@@ -567,13 +567,15 @@ namespace granflow::solvers
       if (tune.split_form == 0.)
         return solve_cone_problem_interior_point(data, options, solution);
       ConeSolverStats split = solve_cone_problem_split_interior_point(data, options, solution);
+      // The split form's solve, its setup (time_factorize) included, counts against the time limit
+      const double split_time = split.time_factorize + split.time_solve;
       if (!split.stalled || tune.whole_form_after_stall == 0. ||
-          (options.max_seconds > 0. && split.time_solve >= options.max_seconds))
+          (options.max_seconds > 0. && split_time >= options.max_seconds))
         return split;
       ConeSolverOptions whole_options         = options;
       whole_options.interior_point.split_form = 0.;
       if (options.max_seconds > 0.)
-        whole_options.max_seconds = options.max_seconds - split.time_solve;
+        whole_options.max_seconds = options.max_seconds - split_time;
       if (options.progress)
         whole_options.progress = [&](const unsigned int iteration, const double residual) {
           options.progress(split.outer_iterations + iteration, residual);
@@ -593,10 +595,12 @@ namespace granflow::solvers
             "split form: " + split.stall_reason + "; then whole form: " + stats.stall_reason;
       stats.outer_iterations += split.outer_iterations;
       stats.operator_applications += split.operator_applications;
-      stats.time_factorize += split.time_factorize;
+      // Times from the start of the split form's solve, as its own history is: the whole form's
+      // setup is part of the solve.
       for (double &t : stats.time_history)
-        t += split.time_solve;
-      stats.time_solve += split.time_solve;
+        t += split.time_solve + stats.time_factorize;
+      stats.time_solve += split.time_solve + stats.time_factorize;
+      stats.time_factorize = split.time_factorize;
       stats.residual_history.insert(stats.residual_history.begin(), split.residual_history.begin(),
                                     split.residual_history.end());
       stats.time_history.insert(stats.time_history.begin(), split.time_history.begin(),

@@ -392,10 +392,6 @@ namespace granflow::solvers
   solve_cone_problem_split_interior_point(const ConeProblemData   &data,
                                           const ConeSolverOptions &options, ConeSolution &solution)
   {
-    if (data.block_size == 3)
-      return SplitInteriorPoint<3>(data, options).solve(solution);
-    if (data.block_size == 6)
-      return SplitInteriorPoint<6>(data, options).solve(solution);
-    throw std::invalid_argument("solve_cone_problem: block size must be 3 (2D) or 6 (3D)");
+    return detail::construct_and_solve<SplitInteriorPoint>(data, options, solution);
   }
 } // namespace granflow::solvers

@@ -173,4 +173,27 @@ namespace granflow::solvers::detail
     stats.residual              = monitor.least_residual();
     return stats;
   }
+
+  /// Method<block_size>(data, options).solve(solution), with the construction (the patterns,
+  /// any factorisation of A) timed as stats.time_factorize, as the fixed point's factorisation
+  /// of A is.
+  template <template <std::size_t> class Method>
+  ConeSolverStats
+  construct_and_solve(const ConeProblemData &data, const ConeSolverOptions &options,
+                      ConeSolution &solution)
+  {
+    const auto t0  = std::chrono::steady_clock::now();
+    const auto run = [&](auto &&method) {
+      const double setup =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      ConeSolverStats stats = method.solve(solution);
+      stats.time_factorize  = setup;
+      return stats;
+    };
+    if (data.block_size == 3)
+      return run(Method<3>(data, options));
+    if (data.block_size == 6)
+      return run(Method<6>(data, options));
+    throw std::invalid_argument("solve_cone_problem: block size must be 3 (2D) or 6 (3D)");
+  }
 } // namespace granflow::solvers::detail
