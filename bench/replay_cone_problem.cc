@@ -29,7 +29,7 @@ namespace
 {
   constexpr char usage[] =
       "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg|ip ...]\n"
-      "  (ip: the interior-point method on the whole problem; default methods: pg apgd spg)\n"
+      "  (ip: the interior point, split form then whole problem; default methods: pg apgd spg)\n"
       "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n"
       "  (GRANFLOW_REPLAY_UNITS=paper: the residual of Daviet (35), lambda against gamma with its\n"
       "   quadrature weight, instead of the run's units of stress)\n"

@@ -100,7 +100,8 @@ namespace granflow::solvers
     /// stall rules; the other tunables are the whole form's. Neither form is better on every
     /// problem measured (docs/solvers.md, session 24), so with whole_form_after_stall = 1 a split
     /// solve that stalls is followed by a whole one from its own start, in the time left, and the
-    /// better of the two iterates is returned.
+    /// better of the two iterates is returned; the iteration limit (max_outer_iterations) covers
+    /// both.
     double split_form             = 1.;
     double whole_form_after_stall = 1.;
     /// Fraction of the longest step that keeps every block interior.

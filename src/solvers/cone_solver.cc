@@ -569,11 +569,14 @@ namespace granflow::solvers
       ConeSolverStats split = solve_cone_problem_split_interior_point(data, options, solution);
       // The split form's solve, its setup (time_factorize) included, counts against the time limit
       const double split_time = split.time_factorize + split.time_solve;
+      // ... as its iterations count against the iteration limit
       if (!split.stalled || tune.whole_form_after_stall == 0. ||
-          (options.max_seconds > 0. && split_time >= options.max_seconds))
+          (options.max_seconds > 0. && split_time >= options.max_seconds) ||
+          split.outer_iterations >= options.max_outer_iterations)
         return split;
       ConeSolverOptions whole_options         = options;
       whole_options.interior_point.split_form = 0.;
+      whole_options.max_outer_iterations = options.max_outer_iterations - split.outer_iterations;
       if (options.max_seconds > 0.)
         whole_options.max_seconds = options.max_seconds - split_time;
       if (options.progress)
@@ -586,7 +589,7 @@ namespace granflow::solvers
       ConeSolution    whole_solution;
       ConeSolverStats stats =
           solve_cone_problem_interior_point(data, whole_options, whole_solution);
-      if (stats.residual < split.residual)
+      if (stats.residual < split.residual || std::isnan(split.residual))
         solution = std::move(whole_solution);
       else
         stats.residual = split.residual;

@@ -269,9 +269,10 @@ namespace
               (j > 0 && trial % 2 ? 0.2 : 1.) * U(rng); // occurs with 5 tangential components too
         const ConeProblemData data = single_point_problem({w.begin(), w.end()}, mu, 0.);
         ConeSolverOptions     options;
-        options.method                    = ConeMethod::interior_point;
-        options.interior_point.split_form = split_form;
-        options.tolerance                 = 1e-9;
+        options.method                                = ConeMethod::interior_point;
+        options.interior_point.split_form             = split_form;
+        options.interior_point.whole_form_after_stall = 0.; // the form under test alone
+        options.tolerance                             = 1e-9;
         ConeSolution       solution;
         std::ostringstream log;
         options.log      = &log;
@@ -314,9 +315,10 @@ TEST_P(ConeInteriorPointForms, CoupledProblemAgreesWithTheFixedPoint)
   // Tolerance 1e-7: at a point where lambda and gamma_hat both vanish the residual decreases only
   // like the square root of the duality gap; this problem stops at 1.1e-8 with a gap of 3e-14.
   ConeSolverOptions options;
-  options.method                    = ConeMethod::interior_point;
-  options.interior_point.split_form = GetParam();
-  options.tolerance                 = 1e-7;
+  options.method                                = ConeMethod::interior_point;
+  options.interior_point.split_form             = GetParam();
+  options.interior_point.whole_form_after_stall = 0.; // the form under test alone
+  options.tolerance                             = 1e-7;
   std::ostringstream log;
   options.log = &log;
   ConeSolution solution;
@@ -478,6 +480,17 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
             split.residual_history.size() + whole.residual_history.size());
   EXPECT_TRUE(std::is_sorted(stats.time_history.begin(), stats.time_history.end()));
   EXPECT_NE(log.str().find("  the split form stalled at "), std::string::npos) << log.str();
+
+  // The iteration limit covers both solves: with room for one more iteration after the split
+  // form's, the whole form takes one.
+  ConeSolverOptions limited    = stalling;
+  limited.max_outer_iterations = split.outer_iterations + 1;
+  stats                        = solve_cone_problem(data, limited, solution);
+  EXPECT_EQ(stats.outer_iterations, split.outer_iterations + 1);
+  limited.max_outer_iterations = split.outer_iterations;
+  stats                        = solve_cone_problem(data, limited, solution);
+  EXPECT_EQ(stats.outer_iterations, split.outer_iterations);
+  EXPECT_EQ(stats.stall_reason, split.stall_reason); // the split form's alone
 
   // Without the whole form after a stall, the split form's own statistics.
   stats = solve_cone_problem(data, split_only, solution);

@@ -141,9 +141,10 @@ namespace granflow::dp
           "Method", s.method,
           "fixed point: Cadoux's fixed point on s = mu |gamma_T| (Algorithm 1), each "
           "step a cone QP solved by the inner solver; any mu >= 0, Bi >= 0. interior "
-          "point: primal-dual interior point on the whole problem (mu > 0, Bi = 0 "
-          "only); reaches tight tolerances where the fixed point stalls, but can lose "
-          "its central path on fine meshes (docs/solvers.md).",
+          "point: primal-dual interior point (mu > 0, Bi = 0 only) on the split form of "
+          "the law, then, where that stalls, on the whole problem; reaches tight "
+          "tolerances where the fixed point stalls, but can lose its central path on fine "
+          "meshes (docs/solvers.md).",
           Selection("fixed point|interior point"));
       prm.add_parameter("Inner solver", s.inner_solver,
                         "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
