@@ -67,13 +67,14 @@ namespace
     return data;
   }
 
-  /// A random SPD A (10 dofs) and a random H coupling 3 points, mu = 0.3, 0.5, 0.8, Bi = 0.
+  /// A random SPD A (n dofs) and a random H coupling 3 points with blocks of `block_size` (3: 2D,
+  /// 6: 3D), mu = 0.3, 0.5, 0.8, Bi = 0.
   ConeProblemData
-  coupled_random_problem()
+  coupled_random_problem(const std::size_t block_size = 3, const std::size_t n = 10)
   {
     std::mt19937                           rng(11);
     std::uniform_real_distribution<double> U(-1., 1.);
-    const std::size_t                      n = 10, points = 3;
+    const std::size_t                      points = 3;
     std::vector<std::vector<double>>       G(n, std::vector<double>(n)), A(n, std::vector<double>(n, 0.));
     for (auto &row : G)
       for (double &g : row)
@@ -85,17 +86,17 @@ namespace
             A[i][j] += G[i][k] * G[j][k];
           A[i][j] += i == j ? 0.5 : 0.;
         }
-    std::vector<std::vector<double>> H(points * 3, std::vector<double>(n));
+    std::vector<std::vector<double>> H(points * block_size, std::vector<double>(n));
     for (auto &row : H)
       for (double &h : row)
         h = U(rng);
     ConeProblemData data;
-    data.block_size = 3;
+    data.block_size = block_size;
     data.A          = dense_to_csr(A);
     data.H          = dense_to_csr(H);
     for (std::size_t i = 0; i < n; ++i)
       data.l.push_back(U(rng));
-    data.k.assign(points * 3, 0.);
+    data.k.assign(points * block_size, 0.);
     data.mu = {0.3, 0.5, 0.8};
     data.Bi = {0., 0., 0.};
     return data;
@@ -405,6 +406,37 @@ TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
   EXPECT_EQ(handed_over.u, augmented.u);
   // one factorisation more: the reduced one of the first solve, before the hand-over
   EXPECT_EQ(handed_stats.operator_applications, augmented_stats.operator_applications + 1);
+}
+
+TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint3D)
+{
+  // The same kind of problem in 3D (blocks of 6, 20 dofs, 3 points): the whole form alone and the
+  // default (the split form, which stalls here at 2.15e-7 with steps of 1e-4, then the whole form)
+  // reach 1e-7 and find the u of Cadoux's fixed point; the Alart-Curnier residual of lambda and
+  // the gamma recomputed from u is small.
+  const ConeProblemData data = coupled_random_problem(6, 20);
+  ConeSolverOptions     reference_options;
+  reference_options.inner_solver = InnerSolver::projected_gradient;
+  reference_options.tolerance    = 1e-9;
+  ConeSolution reference;
+  ASSERT_TRUE(solve_cone_problem(data, reference_options, reference).converged);
+  for (const double split_form : {0., 1.})
+    {
+      ConeSolverOptions options;
+      options.method                    = ConeMethod::interior_point;
+      options.interior_point.split_form = split_form;
+      options.tolerance                 = 1e-7;
+      std::ostringstream log;
+      options.log = &log;
+      ConeSolution solution;
+      ASSERT_TRUE(solve_cone_problem(data, options, solution).converged) << log.str();
+      EXPECT_EQ(log.str().find("the split form stalled") != std::string::npos, split_form == 1.)
+          << log.str();
+      const std::vector<double> gamma = expect_velocity_of_stress(data, solution, 1e-8);
+      EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-6);
+      for (std::size_t i = 0; i < data.A.n_rows; ++i)
+        EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6) << "split_form " << split_form;
+    }
 }
 
 TEST_P(ConeInteriorPointForms, ItsStallRulesAreTheOptionsTunables)
