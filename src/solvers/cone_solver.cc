@@ -565,7 +565,13 @@ namespace granflow::solvers
     {
       const InteriorPointTunables &tune = options.interior_point;
       if (tune.split_form == 0.)
-        return solve_cone_problem_interior_point(data, options, solution);
+        {
+          // The whole form factorises an augmented matrix that stays regular when A is singular,
+          // and would end unconverged; one Cholesky factorisation of A refuses such an A first
+          // (NotPositiveDefinite), as the split form's own factorisation of A does.
+          const CholmodSolver definiteness_check(data.A);
+          return solve_cone_problem_interior_point(data, options, solution);
+        }
       ConeSolverStats split = solve_cone_problem_split_interior_point(data, options, solution);
       // The split form's solve, its setup (time_factorize) included, counts against the time limit
       const double split_time = split.time_factorize + split.time_solve;

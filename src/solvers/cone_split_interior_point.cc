@@ -173,11 +173,12 @@ namespace granflow::solvers
           gamma[k] += data.k[k];
       }
 
-      /// gamma(u) = H u + k, r_m = A u - H^T lambda - l, r_N = a - gamma_N, r_T = x_T - gamma_T
-      /// (stored per point as blocks of n with r_T[i n] unused), and gap = a . b + x . y.
+      /// With gamma(u) = H u + k: r_m = A u - H^T lambda - l, r_N = a - gamma_N, r_T = x_T -
+      /// gamma_T (stored per point as blocks of n with r_T[i n] unused), and gap = a . b + x . y.
       void
       evaluate(const Vector &u, const Vector &lambda, const Vector &a, const Vector &x)
       {
+        Vector gamma_u;
         data.H.vmult(gamma_u, u);
         for (std::size_t k = 0; k < m; ++k)
           gamma_u[k] += data.k[k];
@@ -382,7 +383,7 @@ namespace granflow::solvers
       unsigned int             factorizations = 0;
       std::string              factorization_failure;  // UMFPACK's message, if it failed
       Vector                   u, lambda, a, x;        // the iterate
-      Vector                   gamma_u, r_m, r_N, r_T; // set by evaluate()
+      Vector                   r_m, r_N, r_T;          // set by evaluate()
       Vector                   u_lambda, gamma_lambda;
       double                   gap = 0.;
     };

@@ -1031,10 +1031,8 @@ namespace granflow::dp
       solvers::ConeSolverStats stats;
       try
         {
-          // The interior point factorises an augmented matrix that stays regular when A is
-          // singular, and would end unconverged; one Cholesky factorisation of A tells first.
-          if (options.method == solvers::ConeMethod::interior_point)
-            solvers::CholmodSolver definiteness_check(data.A);
+          // Either method factorises A (Cholesky) first and refuses an A that is not positive
+          // definite (solve_cone_problem).
           stats = solvers::solve_cone_problem(data, options, solution);
         }
       catch (const solvers::NotPositiveDefinite &)
