@@ -135,14 +135,17 @@ namespace granflow::solvers
 
     private:
       /// Once, the line saying that (and why) the augmented matrix has taken over, with the
-      /// iteration whose step it happened in (0: the starting point).
+      /// iteration whose step it happened in (0: the starting point); or, if the augmented matrix
+      /// could not be factorised either, that the hand-over failed (the stall reason names why).
       void
       log_hand_over(const unsigned int iteration)
       {
         if (!options.log || hand_over_reason.empty() || hand_over_logged)
           return;
-        *options.log << "  iteration " << iteration
-                     << ": the Newton systems go to the augmented matrix from here on ("
+        *options.log << "  iteration " << iteration << ": the Newton systems go to the augmented "
+                     << (factorization_failure.empty() ? "matrix from here on ("
+                                                       : "matrix, which could not be factorised "
+                                                         "either (")
                      << hand_over_reason << ")\n";
         hand_over_logged = true;
       }

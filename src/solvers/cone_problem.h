@@ -200,6 +200,28 @@ namespace granflow::solvers
   solve_cone_problem_split_interior_point(const ConeProblemData   &data,
                                           const ConeSolverOptions &options, ConeSolution &solution);
 
+  namespace detail
+  {
+    /// An iterate of the split form (cone_split_interior_point.cc): the velocity u, the stress
+    /// lambda, and per point the slack a of gamma_N and x = (t, x_T), x_T the slack of gamma_T.
+    struct SplitIterate
+    {
+      std::vector<double> u, lambda, a, x;
+    };
+
+    struct SplitDirection
+    {
+      std::vector<double> du, da, dlambda, dx;
+    };
+
+    /// The split form's Newton direction at `iterate`, as its solver computes it, for the
+    /// complementarity right-hand sides rc1 (one per point) and rc2 (block_size per point): for
+    /// tests against a direct solve of the whole linearised system.
+    SplitDirection
+    split_form_direction(const ConeProblemData &data, const SplitIterate &iterate,
+                         const std::vector<double> &rc1, const std::vector<double> &rc2);
+  } // namespace detail
+
   /// Residual of DP(mu, Bi) at every point (lambda_i against gamma_scale_i gamma_i), infinity norm
   /// over the points of the Euclidean norms.
   double

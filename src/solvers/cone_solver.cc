@@ -575,9 +575,14 @@ namespace granflow::solvers
       ConeSolverStats split = solve_cone_problem_split_interior_point(data, options, solution);
       // The split form's solve, its setup (time_factorize) included, counts against the time limit
       const double split_time = split.time_factorize + split.time_solve;
-      // ... as its iterations count against the iteration limit
+      // ... as its iterations count against the iteration limit. The whole form is started only
+      // if the time left would hold its setup and one iteration, estimated by the split form's
+      // (both factorise A or a matrix of its pattern first, then one matrix per iteration).
+      const double split_iteration =
+          split.outer_iterations > 0 ? split.time_solve / split.outer_iterations : 0.;
       if (!split.stalled || tune.whole_form_after_stall == 0. ||
-          (options.max_seconds > 0. && split_time >= options.max_seconds) ||
+          (options.max_seconds > 0. &&
+           split_time + split.time_factorize + split_iteration >= options.max_seconds) ||
           split.outer_iterations >= options.max_outer_iterations)
         return split;
       ConeSolverOptions whole_options         = options;
@@ -585,13 +590,18 @@ namespace granflow::solvers
       whole_options.max_outer_iterations = options.max_outer_iterations - split.outer_iterations;
       if (options.max_seconds > 0.)
         whole_options.max_seconds = options.max_seconds - split_time;
+      // Progress counts on from the split form's iterations. Its last step, the one that stalled,
+      // was not evaluated, so the whole form's starting point takes that number.
       if (options.progress)
         whole_options.progress = [&](const unsigned int iteration, const double residual) {
           options.progress(split.outer_iterations + iteration, residual);
         };
       if (options.log)
         *options.log << "  the split form stalled at " << split.residual << " ("
-                     << split.stall_reason << "): the whole form, from its own start\n";
+                     << split.stall_reason << ") after " << split.outer_iterations
+                     << " iterations and " << split_time
+                     << " s: the whole form, from its own start (its table counts iterations and "
+                        "time from there)\n";
       ConeSolution    whole_solution;
       ConeSolverStats stats =
           solve_cone_problem_interior_point(data, whole_options, whole_solution);

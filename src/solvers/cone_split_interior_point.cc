@@ -35,6 +35,7 @@
 #include <limits>
 #include <ostream>
 #include <stdexcept>
+#include <type_traits>
 
 namespace granflow::solvers
 {
@@ -46,10 +47,11 @@ namespace granflow::solvers
     template <std::size_t n> class SplitInteriorPoint
     {
       using S      = detail::Soc<n>;
-      using Block  = typename S::Block;
       using Matrix = typename S::Matrix;
 
     public:
+      using Block = typename S::Block;
+
       SplitInteriorPoint(const ConeProblemData &data, const ConeSolverOptions &options)
           : data(data)
           , options(options)
@@ -115,7 +117,7 @@ namespace granflow::solvers
       double
       newton_step()
       {
-        return newton_step(u, lambda, a, x);
+        return mehrotra_step();
       }
 
       void
@@ -217,14 +219,30 @@ namespace granflow::solvers
         return t;
       }
 
-      /// One Mehrotra predictor-corrector step; returns the step length taken (0: none).
-      double
-      newton_step(Vector &u, Vector &lambda, Vector &a, Vector &x)
+    public:
+      /// The iterate (u, lambda, a, x), the residuals and the gap evaluated at it.
+      void
+      set_iterate(const detail::SplitIterate &iterate)
       {
-        // Per point: the scaling, v = W x, G = W^2, c = b / a, and M (the reduced block).
-        std::vector<Matrix> W(n_points), W_inv(n_points), G(n_points), M(n_points);
-        std::vector<Block>  v(n_points);
-        Vector              c(n_points);
+        u      = iterate.u;
+        lambda = iterate.lambda;
+        a      = iterate.a;
+        x      = iterate.x;
+        evaluate(u, lambda, a, x);
+      }
+
+      /// Per point, at the current iterate: the scaling (v = W x, G = W^2), c = b / a and the
+      /// reduced block M; then the velocity matrix A + H^T M H is factorised. False (and
+      /// `factorization_failure` set) if UMFPACK cannot factorise it.
+      bool
+      scale_and_factorize()
+      {
+        W.resize(n_points);
+        W_inv.resize(n_points);
+        G.resize(n_points);
+        M.resize(n_points);
+        v.resize(n_points);
+        c.resize(n_points);
         for (std::size_t i = 0; i < n_points; ++i)
           {
             S::nesterov_todd(block(x, i), y_block(lambda, i), W[i], W_inv[i]);
@@ -248,59 +266,83 @@ namespace granflow::solvers
         catch (const std::runtime_error &e)
           {
             factorization_failure = e.what(); // named in the stall reason
-            return 0.;
+            return false;
           }
+        return true;
+      }
 
-        Vector du, dgamma, da(n_points), dlambda(m), dx(m), f(m), rhs, Htf;
-        // The direction for the complementarity right-hand sides rc1 (a_i db_i + b_i da_i = rc1_i)
-        // and rc2 (v o (W dx + W^-1 dy) = rc2).
-        const auto direction = [&](const Vector &rc1, const std::vector<Block> &rc2) {
-          std::vector<Block> Wq(n_points);
-          for (std::size_t i = 0; i < n_points; ++i)
-            {
-              Wq[i]           = S::apply(W[i], S::arrow_solve(v[i], rc2[i]));
-              const double fN = rc1[i] / a[i] + c[i] * r_N[i];
-              const double y0 = (Wq[i][0] - data.mu[i] * fN) / G[i][0][0];
-              f[i * n]        = fN;
-              for (std::size_t p = 1; p < n; ++p)
-                {
-                  double fp = Wq[i][p] - G[i][p][0] * y0;
-                  for (std::size_t q = 1; q < n; ++q)
-                    fp += M[i][p][q] * r_T[i * n + q];
-                  f[i * n + p] = fp;
-                }
-            }
-          data.H.Tvmult(Htf, f);
-          rhs.resize(n_u);
-          for (std::size_t k = 0; k < n_u; ++k)
-            rhs[k] = Htf[k] - r_m[k];
-          lu.solve(du, rhs);
-          data.H.vmult(dgamma, du);
-          for (std::size_t i = 0; i < n_points; ++i)
-            {
-              const Block g    = block(dgamma, i);
-              da[i]            = g[0] - r_N[i];
-              const double dlN = rc1[i] / a[i] - c[i] * da[i];
-              Block        d; // dx = (dt, dx_T)
-              for (std::size_t p = 1; p < n; ++p)
-                d[p] = g[p] - r_T[i * n + p];
-              double s = Wq[i][0] - data.mu[i] * dlN;
-              for (std::size_t p = 1; p < n; ++p)
-                s -= G[i][0][p] * d[p];
-              d[0] = s / G[i][0][0];
-              // dy = W q - G dx; its first entry is mu dlambda_N by the choice of dt
-              const Block Gd = S::apply(G[i], d);
-              dlambda[i * n] = dlN;
-              for (std::size_t p = 1; p < n; ++p)
-                dlambda[i * n + p] = Wq[i][p] - Gd[p];
-              std::copy(d.begin(), d.end(), dx.begin() + i * n);
-            }
-          for (const double d : du)
-            if (!std::isfinite(d))
-              return false;
-          return true;
-        };
+      /// The Newton direction (du, da, dlambda, dx) of the linearised split form for the
+      /// complementarity right-hand sides rc1 (a_i dlambda_N,i + lambda_N,i da_i = rc1_i) and
+      /// rc2 (v o (W dx + W^-1 dy) = rc2, dy = (mu dlambda_N, dlambda_T)), with the momentum
+      /// balance A du - H^T dlambda = -r_m and the slack relations da - dgamma_N = -r_N,
+      /// dx_T - dgamma_T = -r_T; after scale_and_factorize(). False if du is not finite.
+      bool
+      direction(const Vector &rc1, const std::vector<Block> &rc2)
+      {
+        std::vector<Block> Wq(n_points);
+        f.resize(m);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            Wq[i]           = S::apply(W[i], S::arrow_solve(v[i], rc2[i]));
+            const double fN = rc1[i] / a[i] + c[i] * r_N[i];
+            const double y0 = (Wq[i][0] - data.mu[i] * fN) / G[i][0][0];
+            f[i * n]        = fN;
+            for (std::size_t p = 1; p < n; ++p)
+              {
+                double fp = Wq[i][p] - G[i][p][0] * y0;
+                for (std::size_t q = 1; q < n; ++q)
+                  fp += M[i][p][q] * r_T[i * n + q];
+                f[i * n + p] = fp;
+              }
+          }
+        Vector Htf, rhs(n_u), dgamma;
+        data.H.Tvmult(Htf, f);
+        for (std::size_t k = 0; k < n_u; ++k)
+          rhs[k] = Htf[k] - r_m[k];
+        lu.solve(du, rhs);
+        data.H.vmult(dgamma, du);
+        da.resize(n_points);
+        dlambda.resize(m);
+        dx.resize(m);
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            const Block g    = block(dgamma, i);
+            da[i]            = g[0] - r_N[i];
+            const double dlN = rc1[i] / a[i] - c[i] * da[i];
+            Block        d; // dx = (dt, dx_T)
+            for (std::size_t p = 1; p < n; ++p)
+              d[p] = g[p] - r_T[i * n + p];
+            double s = Wq[i][0] - data.mu[i] * dlN;
+            for (std::size_t p = 1; p < n; ++p)
+              s -= G[i][0][p] * d[p];
+            d[0] = s / G[i][0][0];
+            // dy = W q - G dx; its first entry is mu dlambda_N by the choice of dt
+            const Block Gd = S::apply(G[i], d);
+            dlambda[i * n] = dlN;
+            for (std::size_t p = 1; p < n; ++p)
+              dlambda[i * n + p] = Wq[i][p] - Gd[p];
+            std::copy(d.begin(), d.end(), dx.begin() + i * n);
+          }
+        for (const double d : du)
+          if (!std::isfinite(d))
+            return false;
+        return true;
+      }
 
+      detail::SplitDirection
+      last_direction() const
+      {
+        return {du, da, dlambda, dx};
+      }
+
+    private:
+      /// One Mehrotra predictor-corrector step from the current iterate; returns the step length
+      /// taken (0: none).
+      double
+      mehrotra_step()
+      {
+        if (!scale_and_factorize())
+          return 0.;
         const double       tau = gap / (2. * static_cast<double>(n_points));
         Vector             rc1(n_points);
         std::vector<Block> rc2(n_points);
@@ -386,8 +428,39 @@ namespace granflow::solvers
       Vector                   r_m, r_N, r_T;          // set by evaluate()
       Vector                   u_lambda, gamma_lambda;
       double                   gap = 0.;
+      // The step's scaling and reduced blocks (scale_and_factorize()), and the direction
+      std::vector<Matrix> W, W_inv, G, M;
+      std::vector<Block>  v;
+      Vector              c, f;
+      Vector              du, da, dlambda, dx;
     };
   } // namespace
+
+  namespace detail
+  {
+    SplitDirection
+    split_form_direction(const ConeProblemData &data, const SplitIterate &iterate,
+                         const std::vector<double> &rc1, const std::vector<double> &rc2)
+    {
+      const auto compute = [&](auto &&method) {
+        using Block          = typename std::decay_t<decltype(method)>::Block;
+        const std::size_t  n = data.block_size;
+        std::vector<Block> rc2_blocks(data.n_points());
+        for (std::size_t i = 0; i < data.n_points(); ++i)
+          std::copy_n(rc2.begin() + i * n, n, rc2_blocks[i].begin());
+        method.set_iterate(iterate);
+        if (!method.scale_and_factorize() || !method.direction(rc1, rc2_blocks))
+          throw std::runtime_error("split_form_direction: no finite direction");
+        return method.last_direction();
+      };
+      const ConeSolverOptions options;
+      if (data.block_size == 3)
+        return compute(SplitInteriorPoint<3>(data, options));
+      if (data.block_size == 6)
+        return compute(SplitInteriorPoint<6>(data, options));
+      throw std::invalid_argument("split_form_direction: block size must be 3 (2D) or 6 (3D)");
+    }
+  } // namespace detail
 
   ConeSolverStats
   solve_cone_problem_split_interior_point(const ConeProblemData   &data,

@@ -3,6 +3,8 @@
 #include "rheology/drucker_prager.h"
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
+#include "solvers/dense.h"
+#include "solvers/soc.h"
 #include "solvers/solve_monitor.h"
 
 #include <gtest/gtest.h>
@@ -14,6 +16,7 @@
 #include <cstdint>
 #include <iterator>
 #include <limits>
+#include <numeric>
 #include <random>
 #include <regex>
 #include <sstream>
@@ -497,7 +500,14 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
   const auto   whole = solve_cone_problem(data, whole_only, whole_solution);
   ASSERT_TRUE(split.stalled && whole.stalled);
   log.str("");
-  stats = solve_cone_problem(data, stalling, solution);
+  // Progress is numbered on across the two solves, each number once: the iterate after each
+  // step but the last, which stalled and is not evaluated, and the starting point.
+  std::vector<unsigned int> reported;
+  stalling.progress = [&](const unsigned int k, double) { reported.push_back(k); };
+  stats             = solve_cone_problem(data, stalling, solution);
+  std::vector<unsigned int> expected(stats.outer_iterations);
+  std::iota(expected.begin(), expected.end(), 0u);
+  EXPECT_EQ(reported, expected);
   EXPECT_TRUE(stats.stalled);
   EXPECT_FALSE(stats.converged);
   EXPECT_EQ(stats.outer_iterations, split.outer_iterations + whole.outer_iterations);
@@ -512,6 +522,10 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
             split.residual_history.size() + whole.residual_history.size());
   EXPECT_TRUE(std::is_sorted(stats.time_history.begin(), stats.time_history.end()));
   EXPECT_NE(log.str().find("  the split form stalled at "), std::string::npos) << log.str();
+  EXPECT_NE(
+      log.str().find(") after " + std::to_string(split.outer_iterations) + " iterations and "),
+      std::string::npos)
+      << log.str();
 
   // The iteration limit covers both solves: with room for one more iteration after the split
   // form's, the whole form takes one.
@@ -528,6 +542,152 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
   stats = solve_cone_problem(data, split_only, solution);
   EXPECT_EQ(stats.outer_iterations, split.outer_iterations);
   EXPECT_EQ(stats.residual, split.residual);
+}
+
+namespace
+{
+  /// The split form's linearised system, written out as a dense matrix over
+  /// z = (du, da, dlambda, dx) with its right-hand side (rows: momentum balance, slack of gamma_N,
+  /// slacks of gamma_T, the two complementarities), solved by Gaussian elimination.
+  template <std::size_t n>
+  std::vector<double>
+  split_direction_by_direct_solve(const ConeProblemData &data, const detail::SplitIterate &it,
+                                  const std::vector<double> &rc1, const std::vector<double> &rc2)
+  {
+    using S               = detail::Soc<n>;
+    const std::size_t n_u = data.A.n_rows, n_p = data.n_points(), m = n_p * n;
+    const std::size_t da0 = n_u, dl0 = n_u + n_p, dx0 = n_u + n_p + m, size = n_u + n_p + 2 * m;
+    const auto        dense = [](const CsrMatrix &C) {
+      std::vector<std::vector<double>> D(C.n_rows, std::vector<double>(C.n_cols, 0.));
+      for (std::size_t r = 0; r < C.n_rows; ++r)
+        for (int k = C.row_start[r]; k < C.row_start[r + 1]; ++k)
+          D[r][C.column[k]] += C.value[k];
+      return D;
+    };
+    const auto          A = dense(data.A), H = dense(data.H);
+    std::vector<double> gamma, Htl;
+    data.H.vmult(gamma, it.u);
+    data.H.Tvmult(Htl, it.lambda);
+    std::vector<std::vector<double>> K(size, std::vector<double>(size + 1, 0.));
+    std::size_t                      row = 0;
+    for (std::size_t r = 0; r < n_u; ++r, ++row) // A du - H^T dlambda = -(A u - H^T lambda - l)
+      {
+        double Au = 0.;
+        for (std::size_t c = 0; c < n_u; ++c)
+          {
+            K[row][c] = A[r][c];
+            Au += A[r][c] * it.u[c];
+          }
+        for (std::size_t q = 0; q < m; ++q)
+          K[row][dl0 + q] = -H[q][r];
+        K[row][size] = -(Au - Htl[r] - data.l[r]);
+      }
+    for (std::size_t i = 0; i < n_p; ++i)
+      for (std::size_t p = 0; p < n; ++p, ++row) // da - dgamma_N = -r_N, dx_T - dgamma_T = -r_T
+        {
+          for (std::size_t c = 0; c < n_u; ++c)
+            K[row][c] = -H[i * n + p][c];
+          const double slack                         = p == 0 ? it.a[i] : it.x[i * n + p];
+          K[row][p == 0 ? da0 + i : dx0 + i * n + p] = 1.;
+          K[row][size] = -(slack - gamma[i * n + p] - data.k[i * n + p]);
+        }
+    for (std::size_t i = 0; i < n_p; ++i, ++row) // lambda_N da + a dlambda_N = rc1
+      {
+        K[row][da0 + i]     = it.lambda[i * n];
+        K[row][dl0 + i * n] = it.a[i];
+        K[row][size]        = rc1[i];
+      }
+    for (std::size_t i = 0; i < n_p;
+         ++i) // v o (W dx + W^-1 dy) = rc2, dy = (mu dlambda_N, dlambda_T)
+      {
+        typename S::Block x, y;
+        for (std::size_t p = 0; p < n; ++p)
+          {
+            x[p] = it.x[i * n + p];
+            y[p] = it.lambda[i * n + p] * (p == 0 ? data.mu[i] : 1.);
+          }
+        typename S::Matrix W, W_inv;
+        S::nesterov_todd(x, y, W, W_inv);
+        const auto v = S::apply(W, x);
+        for (std::size_t p = 0; p < n; ++p) // the scaling: W x = W^-1 y, W W^-1 = I
+          {
+            EXPECT_NEAR(v[p], S::apply(W_inv, y)[p], 1e-12);
+            for (std::size_t q = 0; q < n; ++q)
+              EXPECT_NEAR(S::multiply(W, W_inv)[p][q], p == q ? 1. : 0., 1e-12);
+          }
+        for (std::size_t p = 0; p < n; ++p, ++row) // row p of the arrow matrix of v
+          {
+            for (std::size_t q = 0; q < n; ++q)
+              {
+                const double arrow = p == 0 ? v[q] : (q == 0 ? v[p] : (p == q ? v[0] : 0.));
+                for (std::size_t r = 0; r < n; ++r)
+                  {
+                    K[row][dx0 + i * n + r] += arrow * W[q][r];
+                    K[row][dl0 + i * n + r] += arrow * W_inv[q][r] * (r == 0 ? data.mu[i] : 1.);
+                  }
+              }
+            K[row][size] = rc2[i * n + p];
+          }
+      }
+    EXPECT_EQ(row, size);
+    std::vector<double> z;
+    EXPECT_TRUE(solve_augmented(K, z));
+    return z;
+  }
+} // namespace
+
+TEST(ConeSplitInteriorPoint, DirectionSolvesTheWholeLinearisedSystem)
+{
+  // The split form eliminates the slacks and the stress point by point and solves for the
+  // velocity alone; its direction must be the solution of the whole linearised system, solved
+  // here directly, at a random interior iterate off the central path, in 2D and 3D.
+  for (const std::size_t block_size : {std::size_t{3}, std::size_t{6}})
+    {
+      const ConeProblemData                  data = coupled_random_problem(block_size, 20);
+      const std::size_t                      n = block_size, n_p = data.n_points(), m = n_p * n;
+      std::mt19937                           rng(7);
+      std::uniform_real_distribution<double> U(-1., 1.), P(0.2, 1.);
+      detail::SplitIterate                   it;
+      for (std::size_t k = 0; k < data.A.n_rows; ++k)
+        it.u.push_back(U(rng));
+      std::vector<double> rc1, rc2;
+      for (std::size_t i = 0; i < n_p; ++i)
+        {
+          it.a.push_back(P(rng));
+          rc1.push_back(U(rng));
+          // lambda in K_mu and x in K_1, both interior: their tangential parts at a random
+          // fraction of the radius
+          std::vector<double> lT(n - 1), xT(n - 1);
+          double              nl = 0., nx = 0.;
+          for (std::size_t p = 0; p + 1 < n; ++p)
+            {
+              lT[p] = U(rng), xT[p] = U(rng);
+              nl += lT[p] * lT[p], nx += xT[p] * xT[p];
+            }
+          const double lN = P(rng), t = P(rng), fl = 0.9 * P(rng), fx = 0.9 * P(rng);
+          it.lambda.push_back(lN);
+          it.x.push_back(t);
+          for (std::size_t p = 0; p + 1 < n; ++p)
+            {
+              it.lambda.push_back(fl * data.mu[i] * lN * lT[p] / std::sqrt(nl));
+              it.x.push_back(fx * t * xT[p] / std::sqrt(nx));
+            }
+          for (std::size_t p = 0; p < n; ++p)
+            rc2.push_back(U(rng));
+        }
+      const auto d = detail::split_form_direction(data, it, rc1, rc2);
+      const auto z = block_size == 3 ? split_direction_by_direct_solve<3>(data, it, rc1, rc2)
+                                     : split_direction_by_direct_solve<6>(data, it, rc1, rc2);
+      std::vector<double> eliminated = d.du;
+      for (const auto *part : {&d.da, &d.dlambda, &d.dx})
+        eliminated.insert(eliminated.end(), part->begin(), part->end());
+      ASSERT_EQ(eliminated.size(), z.size());
+      ASSERT_EQ(d.dlambda.size(), m);
+      const double scale = std::abs(*std::max_element(
+          z.begin(), z.end(), [](double p, double q) { return std::abs(p) < std::abs(q); }));
+      for (std::size_t k = 0; k < z.size(); ++k)
+        EXPECT_NEAR(eliminated[k], z[k], 1e-10 * scale) << "block size " << n << ", unknown " << k;
+    }
 }
 
 TEST_P(ConeInteriorPointForms, RejectsPointsOutsideItsScope)
