@@ -144,8 +144,7 @@ namespace granflow::solvers
           return;
         *options.log << "  iteration " << iteration << ": the Newton systems go to the augmented "
                      << (factorization_failure.empty() ? "matrix from here on ("
-                                                       : "matrix, which could not be factorised "
-                                                         "either (")
+                                                       : "matrix, which then failed too (")
                      << hand_over_reason << ")\n";
         hand_over_logged = true;
       }

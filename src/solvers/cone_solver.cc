@@ -577,19 +577,29 @@ namespace granflow::solvers
       const double split_time = split.time_factorize + split.time_solve;
       // ... as its iterations count against the iteration limit. The whole form is started only
       // if the time left would hold its setup and one iteration, estimated by the split form's
-      // (both factorise A or a matrix of its pattern first, then one matrix per iteration).
+      // (both factorise A or a matrix of its pattern first, then one matrix per iteration); its
+      // own limit, which its solve measures from after its setup, is what is left after that
+      // setup.
       const double split_iteration =
           split.outer_iterations > 0 ? split.time_solve / split.outer_iterations : 0.;
+      const bool no_time =
+          options.max_seconds > 0. &&
+          split_time + split.time_factorize + split_iteration >= options.max_seconds;
       if (!split.stalled || tune.whole_form_after_stall == 0. ||
-          (options.max_seconds > 0. &&
-           split_time + split.time_factorize + split_iteration >= options.max_seconds) ||
-          split.outer_iterations >= options.max_outer_iterations)
-        return split;
+          split.outer_iterations >= options.max_outer_iterations || no_time)
+        {
+          if (split.stalled && tune.whole_form_after_stall != 0. && options.log &&
+              split.outer_iterations < options.max_outer_iterations)
+            *options.log << "  the split form stalled at " << split.residual << " ("
+                         << split.stall_reason << ") after " << split_time
+                         << " s: too little of the time limit is left for the whole form\n";
+          return split;
+        }
       ConeSolverOptions whole_options         = options;
       whole_options.interior_point.split_form = 0.;
       whole_options.max_outer_iterations = options.max_outer_iterations - split.outer_iterations;
       if (options.max_seconds > 0.)
-        whole_options.max_seconds = options.max_seconds - split_time;
+        whole_options.max_seconds = options.max_seconds - split_time - split.time_factorize;
       // Progress counts on from the split form's iterations. Its last step, the one that stalled,
       // was not evaluated, so the whole form's starting point takes that number.
       if (options.progress)

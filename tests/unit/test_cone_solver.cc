@@ -643,10 +643,12 @@ TEST(ConeSplitInteriorPoint, DirectionSolvesTheWholeLinearisedSystem)
   // here directly, at a random interior iterate off the central path, in 2D and 3D.
   for (const std::size_t block_size : {std::size_t{3}, std::size_t{6}})
     {
-      const ConeProblemData                  data = coupled_random_problem(block_size, 20);
+      ConeProblemData                        data = coupled_random_problem(block_size, 20);
       const std::size_t                      n = block_size, n_p = data.n_points(), m = n_p * n;
       std::mt19937                           rng(7);
       std::uniform_real_distribution<double> U(-1., 1.), P(0.2, 1.);
+      for (double &k : data.k) // gamma = H u + k with k != 0 (boundary velocities)
+        k = U(rng);
       detail::SplitIterate                   it;
       for (std::size_t k = 0; k < data.A.n_rows; ++k)
         it.u.push_back(U(rng));
