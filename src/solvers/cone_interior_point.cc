@@ -605,12 +605,11 @@ namespace granflow::solvers
             }
           return true;
         };
-        while (t > 1e-12 && !interior(t))
-          t *= 0.5;
+        t           = detail::halve_until_interior(t, interior);
         bool finite = true;
         for (const double v : x)
           finite = finite && std::isfinite(v);
-        if (t <= 1e-12 || !finite)
+        if (t == 0. || !finite)
           return 0.;
         for (std::size_t k = 0; k < n_u; ++k)
           u[k] += t * du[k];

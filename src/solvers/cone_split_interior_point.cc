@@ -400,9 +400,8 @@ namespace granflow::solvers
             }
           return true;
         };
-        while (t > 1e-12 && !interior(t))
-          t *= 0.5;
-        if (t <= 1e-12)
+        t = detail::halve_until_interior(t, interior);
+        if (t == 0.)
           return 0.;
         for (std::size_t k = 0; k < n_u; ++k)
           u[k] += t * du[k];

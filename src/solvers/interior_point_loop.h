@@ -39,6 +39,17 @@ namespace granflow::solvers::detail
             "(use the Cadoux fixed point otherwise)");
   }
 
+  /// The step `t` halved until `interior(t)` holds (rounding can still put a block on the
+  /// boundary at the longest step computed); 0 once it falls to 1e-12.
+  template <typename Interior>
+  double
+  halve_until_interior(double t, const Interior &interior)
+  {
+    while (t > 1e-12 && !interior(t))
+      t *= 0.5;
+    return t > 1e-12 ? t : 0.;
+  }
+
   /// A tunable's value as a user writes it: 1e-4 (not 0.0001), 0.5, 3.
   inline std::string
   as_written(const double v)
