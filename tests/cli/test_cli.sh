@@ -268,6 +268,27 @@ bad velocity-condition-twice "names 'top', which is also in Boundary conditions/
   --set "Boundary conditions/Zero normal velocity=top"
 bad external-pressure-on-free-slip "a Zero normal velocity boundary" --set "Boundary conditions/No-slip=bottom" \
   --set "Boundary conditions/Zero normal velocity=top" --set "Boundary conditions/External pressure=top: 1"
+# Boundary conditions/Velocity: 'name: (u_x, u_y), ...'
+bad velocity-without-parentheses "cannot read 'top: 1, 0': expected 'boundary: (u_x, u_y), ...'" \
+  --set "Boundary conditions/No-slip=bottom" --set "Boundary conditions/Velocity=top: 1, 0"
+bad velocity-one-component "cannot read 'top: (1)'" --set "Boundary conditions/No-slip=bottom" \
+  --set "Boundary conditions/Velocity=top: (1)"
+bad velocity-not-finite "cannot read 'top: (inf, 0)'" --set "Boundary conditions/No-slip=bottom" \
+  --set "Boundary conditions/Velocity=top: (inf, 0)"
+bad velocity-trailing-comma "cannot read ','" --set "Boundary conditions/No-slip=bottom" \
+  --set "Boundary conditions/Velocity=top: (1, 0),"
+bad velocity-twice "entry 'Boundary conditions/Velocity': names boundary 'top' a second time" \
+  --set "Boundary conditions/No-slip=bottom" --set "Boundary conditions/Velocity=top: (1, 0), top: (2, 0)"
+bad velocity-and-no-slip "names 'top', which is also in Boundary conditions/No-slip" \
+  --set "Boundary conditions/Velocity=top: (1, 0)"
+bad velocity-missing-boundary "entry 'Boundary conditions/Velocity': the mesh has no boundary named 'lid'" \
+  --set "Boundary conditions/Velocity=lid: (1, 0)"
+bad external-pressure-on-velocity "a Velocity boundary" --set "Boundary conditions/No-slip=bottom" \
+  --set "Boundary conditions/Velocity=top: (1, 0)" --set "Boundary conditions/External pressure=top: 1"
+# (2 - 1) times the width 2, less the end nodes at rest on the no-slip walls
+bad velocity-into-closed-domain "Boundary conditions/Velocity': pushes a net volume flux of 1.99 into a domain" \
+  --set "Boundary conditions/Zero y-velocity=" --set "Boundary conditions/Velocity=inlet: (2, 0), outlet: (1, 0)" \
+  --set "Output/Reference=none"
 bad zero-normal-velocity-missing-boundary "entry 'Boundary conditions/Zero normal velocity'" \
   --set "Boundary conditions/Zero normal velocity=lid"
 bad zero-tangential-velocity-leaves-rigid-motion "the velocity can still translate along (1, 0)" \

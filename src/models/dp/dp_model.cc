@@ -13,6 +13,7 @@
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
 
+#include <deal.II/base/function.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/dofs/dof_handler.h>
@@ -55,7 +56,7 @@ namespace granflow::dp
       std::string list;
       for (const auto &condition : bc.velocity_conditions())
         list += (list.empty() ? "" : ", ") + std::string(condition.second);
-      return list;
+      return list + ", Velocity";
     }
 
     /// Symmetric 3-point rule exact for degree 2 with positive weights (DESIGN.md): the
@@ -119,6 +120,8 @@ namespace granflow::dp
       constrain_directions();
       void
       require_no_free_rigid_motion() const;
+      void
+      require_no_net_inflow_into_a_closed_domain() const;
       void
       assemble_velocity_operator(const std::vector<double> &eta);
       void
@@ -480,6 +483,58 @@ namespace granflow::dp
                                where.str() +
                                " (A is singular): expected velocity conditions that fix both "
                                "translations and the rotation of every part of the mesh");
+        }
+    }
+
+    /// In a domain whose every boundary face has its normal velocity prescribed, int div u =
+    /// int u_D . n: where Boundary conditions/Velocity pushes more material in than it lets out,
+    /// no velocity has div u >= 0 (24) and the cone problem has no solution; the solvers would
+    /// only say that they did not converge. The flux is that of the interpolated u_D, the one
+    /// the discrete problem sees.
+    void
+    Problem::require_no_net_inflow_into_a_closed_domain() const
+    {
+      if (prm.boundaries.velocity.empty())
+        return;
+      const QGauss<dim - 1>            face_quadrature(3); // u_D is P2 on straight faces
+      FEFaceValues<dim>                fvf(mapping, fe_u, face_quadrature,
+                                           update_values | update_normal_vectors | update_JxW_values);
+      const FEValuesExtractors::Vector velocity(0);
+      Vector<double>                   u_D(dof_u.n_dofs());
+      for (const auto &[i, value] : dirichlet)
+        u_D[i] = value;
+      std::vector<Tensor<1, dim>> values(face_quadrature.size());
+      double                      net = 0., gross = 0.;
+      for (const auto &cell : dof_u.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary())
+            {
+              fvf.reinit(cell, f);
+              const Tensor<1, dim> n      = fvf.normal_vector(0);
+              bool                 closed = false;
+              for (const auto &vb : velocity_boundaries)
+                if (vb.id == cell->face(f)->boundary_id())
+                  for (unsigned int c = 0; c < dim; ++c)
+                    closed = closed || vb.direction == VelocityBoundary::Direction::normal ||
+                             (vb.direction == VelocityBoundary::Direction::none && vb.mask[c] &&
+                              std::abs(n[c]) > 1. - 1e-12);
+              if (!closed)
+                return; // material can leave (or enter) through this face
+              fvf[velocity].get_function_values(u_D, values);
+              double flux = 0.;
+              for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                flux += values[q] * fvf.normal_vector(q) * fvf.JxW(q);
+              net += flux;
+              gross += std::abs(flux);
+            }
+      if (net < -1e-9 * gross)
+        {
+          std::ostringstream what;
+          what << std::setprecision(3) << "pushes a net volume flux of " << -net
+               << " into a domain that the velocity conditions close on every side; the material "
+                  "cannot be compressed (div u >= 0, Daviet (24)): expected velocities whose "
+                  "outflow is at least their inflow, or a boundary left open (External pressure)";
+          throw InputError(prm.case_file, "Boundary conditions/Velocity", what.str());
         }
     }
 
@@ -852,34 +907,49 @@ namespace granflow::dp
     {
       const auto &bc = prm.boundaries;
       // A name in two velocity conditions is a contradiction or a typo.
-      std::map<types::boundary_id, const char *>                      condition_of;
-      const auto conditions = bc.velocity_conditions();
-      for (const auto &[list, entry] : conditions)
+      const auto velocities =
+          parse_named_velocities(bc.velocity, prm.case_file, "Boundary conditions/Velocity");
+      std::vector<std::pair<std::string, const char *>> named; // (boundary, entry)
+      for (const auto &[list, entry] : bc.velocity_conditions())
         for (const std::string &name : split_list(*list))
-          if (const auto [it, fresh] = condition_of.emplace(
-                  mesh.id(name, prm.case_file, std::string("Boundary conditions/") + entry), entry);
-              !fresh)
-            throw InputError(prm.case_file, std::string("Boundary conditions/") + entry,
-                             "names '" + name + "', which is also in Boundary conditions/" +
-                                 it->second + ": expected one velocity condition per boundary");
-      const auto add = [&](const std::string &list, const char *entry, const ComponentMask &mask) {
-        for (const std::string &name : split_list(list))
-          {
-            const types::boundary_id                  id = mesh.id(name, prm.case_file, entry);
-            std::map<types::global_dof_index, double> values;
-            VectorTools::interpolate_boundary_values(
-                mapping, dof_u, id, Functions::ZeroFunction<dim>(dim), values, mask);
-            dirichlet.insert(values.begin(), values.end());
-            velocity_boundaries.push_back({id, mask});
-          }
+          named.emplace_back(name, entry);
+      for (const auto &[name, value] : velocities)
+        named.emplace_back(name, "Velocity");
+      std::map<types::boundary_id, const char *> condition_of;
+      for (const auto &[name, entry] : named)
+        if (const auto [it, fresh] = condition_of.emplace(
+                mesh.id(name, prm.case_file, std::string("Boundary conditions/") + entry), entry);
+            !fresh)
+          throw InputError(prm.case_file, std::string("Boundary conditions/") + entry,
+                           "names '" + name + "', which is also in Boundary conditions/" +
+                               it->second + ": expected one velocity condition per boundary");
+      // u = value on boundary `name`, in the components of `mask`. A dof already fixed keeps its
+      // value: the homogeneous conditions come first, so a moving lid's end nodes on no-slip
+      // walls stay at rest, and of two Velocity boundaries the one listed first wins.
+      const auto add = [&](const std::string &name, const char *entry, const ComponentMask &mask,
+                           const Tensor<1, dim> &value) {
+        const types::boundary_id                  id = mesh.id(name, prm.case_file, entry);
+        std::map<types::global_dof_index, double> values;
+        VectorTools::interpolate_boundary_values(
+            mapping, dof_u, id,
+            Functions::ConstantFunction<dim>(std::vector<double>{value[0], value[1]}), values,
+            mask);
+        dirichlet.insert(values.begin(), values.end());
+        velocity_boundaries.push_back({id, mask});
       };
-      add(bc.no_slip, "Boundary conditions/No-slip", ComponentMask());
-      add(bc.zero_x_velocity, "Boundary conditions/Zero x-velocity",
-          ComponentMask(std::vector<bool>{true, false}));
-      add(bc.zero_y_velocity, "Boundary conditions/Zero y-velocity",
-          ComponentMask(std::vector<bool>{false, true}));
+      for (const auto &[list, entry, mask] :
+           {std::make_tuple(&bc.no_slip, "Boundary conditions/No-slip", ComponentMask()),
+            std::make_tuple(&bc.zero_x_velocity, "Boundary conditions/Zero x-velocity",
+                            ComponentMask(std::vector<bool>{true, false})),
+            std::make_tuple(&bc.zero_y_velocity, "Boundary conditions/Zero y-velocity",
+                            ComponentMask(std::vector<bool>{false, true}))})
+        for (const std::string &name : split_list(*list))
+          add(name, entry, mask, Tensor<1, dim>());
+      for (const auto &[name, value] : velocities)
+        add(name, "Boundary conditions/Velocity", ComponentMask(), value);
       constrain_directions();
       require_no_free_rigid_motion(); // also where there is no velocity condition at all
+      require_no_net_inflow_into_a_closed_domain();
 
       // Every named boundary of the load must exist too (checked before anything is solved).
       for (const auto &[name, p] :
@@ -892,6 +962,7 @@ namespace granflow::dp
           // boundary y = const, for example).
           if (condition != condition_of.end() &&
               (std::string(condition->second) == "No-slip" ||
+               std::string(condition->second) == "Velocity" ||
                std::string(condition->second) == "Zero normal velocity"))
             throw InputError(prm.case_file, "Boundary conditions/External pressure",
                              "on '" + name + "', a " + condition->second +

@@ -7,6 +7,7 @@
 #include "solvers/cone_problem.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -102,6 +103,16 @@ namespace granflow::dp
     {
       auto &b = boundaries;
       prm.add_parameter("No-slip", b.no_slip, "Boundaries with u = 0, comma-separated names.", Anything());
+      prm.add_parameter(
+          "Velocity", b.velocity,
+          "'name: (u_x, u_y), ...': boundaries with a prescribed constant velocity u = u_D "
+          "(a moving wall, an inflow), finite numbers. At a node shared with No-slip, Zero x- or "
+          "Zero y-velocity, the components those fix stay zero (the end nodes of a moving lid "
+          "between no-slip walls are at rest); at a node shared with Zero normal or tangential "
+          "velocity, u = u_D; where two of these boundaries meet, the one listed first gives the "
+          "node its value. In a domain closed by velocity conditions, they must not push "
+          "material in: div u >= 0 (24).",
+          Anything());
       prm.add_parameter("Zero x-velocity", b.zero_x_velocity,
                         "Boundaries with u_x = 0 (natural condition on u_y).", Anything());
       prm.add_parameter("Zero y-velocity", b.zero_y_velocity,
@@ -223,6 +234,7 @@ namespace granflow::dp
       check_list_items(*list, f, std::string("Boundary conditions/") + entry);
     check_list_items(boundaries.analytic_traction, f, "Boundary conditions/Analytic traction");
     check_list_items(boundaries.external_pressure, f, "Boundary conditions/External pressure");
+    parse_named_velocities(boundaries.velocity, f, "Boundary conditions/Velocity");
     if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::interior_point &&
         !(rheology.mu > 0. && rheology.Bi == 0.))
       throw InputError(f, "Solver/Method",
@@ -357,6 +369,57 @@ namespace granflow::dp
         throw InputError(file, entry,
                          "'" + text + "' is not a point: expected 'x, y' (finite numbers)");
       }
+  }
+
+  std::vector<std::pair<std::string, dealii::Tensor<1, 2>>>
+  parse_named_velocities(const std::string &text, const std::string &file, const std::string &entry)
+  {
+    std::vector<std::pair<std::string, dealii::Tensor<1, 2>>> result;
+    if (trim(text).empty())
+      return result;
+    const auto refuse = [&](const std::string &what) {
+      throw InputError(file, entry,
+                       "cannot read '" + trim(what) +
+                           "': expected 'boundary: (u_x, u_y), ...' (finite numbers)");
+    };
+    std::size_t at = 0;
+    while (at < text.size())
+      {
+        // one item, "name: (x, y)", then a comma or the end
+        const std::size_t colon = text.find(':', at), open = text.find('(', at);
+        const std::size_t close = open == std::string::npos ? open : text.find(')', open);
+        if (colon == std::string::npos || open == std::string::npos || close == std::string::npos ||
+            colon > open || !trim(text.substr(colon + 1, open - colon - 1)).empty())
+          refuse(text.substr(at));
+        const std::string name = trim(text.substr(at, colon - at));
+        if (name.empty() || name.find(',') != std::string::npos)
+          refuse(text.substr(at, close + 1 - at));
+        dealii::Point<2> u;
+        try
+          {
+            u = parse_point(text.substr(open + 1, close - open - 1), file, entry);
+          }
+        catch (const InputError &)
+          {
+            refuse(text.substr(at, close + 1 - at));
+          }
+        for (const auto &[earlier, value] : result)
+          if (earlier == name)
+            throw InputError(file, entry,
+                             "names boundary '" + name +
+                                 "' a second time: expected each boundary at most once");
+        result.emplace_back(name, u);
+        at = close + 1;
+        while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at])))
+          ++at;
+        if (at < text.size())
+          {
+            if (text[at] != ',' || trim(text.substr(at + 1)).empty())
+              refuse(text.substr(at));
+            ++at;
+          }
+      }
+    return result;
   }
 
   std::vector<std::string>

@@ -43,6 +43,7 @@ namespace granflow::dp
   struct BoundaryParameters
   {
     std::string no_slip;           // u = 0
+    std::string velocity;          // "name: (u_x, u_y), ...": u = u_D, a constant per boundary
     std::string zero_x_velocity;   // u_x = 0, natural condition on the other component
     std::string zero_y_velocity;   // u_y = 0
     std::string zero_normal_velocity;     // u . n = 0, no tangential traction (free slip)
@@ -133,4 +134,10 @@ namespace granflow::dp
 
   dealii::Point<2>
   parse_point(const std::string &text, const std::string &file, const std::string &entry);
+
+  /// Boundary conditions/Velocity: "name: (u_x, u_y), name: (u_x, u_y)" into pairs, each name
+  /// once; throws InputError naming file and entry.
+  std::vector<std::pair<std::string, dealii::Tensor<1, 2>>>
+  parse_named_velocities(const std::string &text, const std::string &file,
+                         const std::string &entry);
 } // namespace granflow::dp
