@@ -64,7 +64,7 @@ namespace granflow::solvers
           , blocks(data)
           , lu(true)
       {
-        detail::check_interior_point_scope(data);
+        detail::check_interior_point_scope(data, detail::InteriorPointForm::whole);
         build_pattern();
         if (reduced())
           {

@@ -48,7 +48,8 @@ namespace granflow::solvers
   enum class ConeMethod
   {
     fixed_point,   // Cadoux's fixed point on s (Algorithm 1) with an inner SOCQP solver
-    interior_point // primal-dual interior point on the whole problem (mu > 0, Bi = 0 only)
+    interior_point // primal-dual interior point: the split form (mu > 0 or Bi > 0), then the whole
+                   // problem where that stalls (mu > 0, Bi = 0 only)
   };
 
   enum class ResidualKind

@@ -7,6 +7,7 @@
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
 #include "solvers/dense.h"
+#include "solvers/interior_point_loop.h"
 #include "solvers/solve_monitor.h"
 
 #include <algorithm>
@@ -585,14 +586,20 @@ namespace granflow::solvers
       const bool no_time =
           options.max_seconds > 0. &&
           split_time + split.time_factorize + split_iteration >= options.max_seconds;
-      if (!split.stalled || tune.whole_form_after_stall == 0. ||
+      // The whole form handles mu > 0 and Bi = 0 only (a Bingham material has no other).
+      const bool whole_applies =
+          detail::interior_point_handles(data, detail::InteriorPointForm::whole);
+      if (!split.stalled || tune.whole_form_after_stall == 0. || !whole_applies ||
           split.outer_iterations >= options.max_outer_iterations || no_time)
         {
           if (split.stalled && tune.whole_form_after_stall != 0. && options.log &&
               split.outer_iterations < options.max_outer_iterations)
             *options.log << "  the split form stalled at " << split.residual << " ("
-                         << split.stall_reason << ") after " << split_time
-                         << " s: too little of the time limit is left for the whole form\n";
+                         << split.stall_reason << ") after " << split_time << " s: "
+                         << (whole_applies
+                                 ? "too little of the time limit is left for the whole form"
+                                 : "the whole form, which needs mu > 0 and Bi = 0, does not apply")
+                         << "\n";
           return split;
         }
       ConeSolverOptions whole_options         = options;

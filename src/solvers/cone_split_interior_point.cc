@@ -1,4 +1,4 @@
-// Primal-dual interior point on the *split form* of the DP(mu, 0) problem (35) of Daviet &
+// Primal-dual interior point on the *split form* of the DP(mu, Bi) problem (35) of Daviet &
 // Bertails-Descoubes 2016 (docs/solvers.md, "the split form"). The law of Corollary 1,
 //   lambda in K_mu,  gamma_hat = gamma + mu ||gamma_T|| e_N in K_{1/mu},  lambda . gamma_hat = 0,
 // is the same as the two complementarities
@@ -19,6 +19,11 @@
 // leaves the velocity system (A + H^T M H) du = -r_m + H^T f (r_m = A u - H^T lambda - l),
 // unsymmetric through the friction cone's radius mu lambda_N (the incompressibility multiplier),
 // factorised by UMFPACK at every iteration. tau = gap / (2 n): each pair has degree 1.
+// Bi > 0 (the truncated cone K_{mu,Bi} of (16), 4.5) only shifts y: y = (Bi + mu lambda_N,
+// lambda_T) in K_1 is ||lambda_T|| <= Bi + mu lambda_N, and the split is the same (at lambda_N = 0
+// the friction pair still holds gamma_T against lambda_T). Its directions dy = (mu dlambda_N,
+// dlambda_T) are unchanged; mu = 0 (Bingham) is allowed where Bi > 0, since y then keeps an
+// interior.
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
 #include "solvers/interior_point_loop.h"
@@ -61,7 +66,7 @@ namespace granflow::solvers
           , blocks(data)
           , A_inv(data.A)
       {
-        detail::check_interior_point_scope(data);
+        detail::check_interior_point_scope(data, detail::InteriorPointForm::split);
         blocks.build_reduced_pattern();
         // UMFPACK's own refinement (2 steps by default) changes neither the iterations nor the
         // residual's first 6 digits on the 673-vertex silo and the default cylinder, and costs a
@@ -152,11 +157,22 @@ namespace granflow::solvers
         return b;
       }
 
-      /// y = (mu lambda_N, lambda_T), the stress in the coordinates of K_1.
+      /// y = (Bi + mu lambda_N, lambda_T), the stress in the coordinates of K_1: y in K_1 is
+      /// lambda's friction condition ||lambda_T|| <= Bi + mu lambda_N, the truncated cone
+      /// K_{mu,Bi} of (16) with lambda_N >= 0 held by the other pair.
       Block
       y_block(const Vector &lambda, const std::size_t i) const
       {
-        Block y = block(lambda, i);
+        Block y = dy_block(lambda, i);
+        y[0] += data.Bi[i];
+        return y;
+      }
+
+      /// dy = (mu dlambda_N, dlambda_T): y's change along a change dlambda of the stress.
+      Block
+      dy_block(const Vector &dlambda, const std::size_t i) const
+      {
+        Block y = block(dlambda, i);
         y[0] *= data.mu[i];
         return y;
       }
@@ -214,7 +230,7 @@ namespace granflow::solvers
             if (dlambda[i * n] < 0.)
               t = std::min(t, -lambda[i * n] / dlambda[i * n]);
             t = std::min({t, S::max_step(block(x, i), block(dx, i)),
-                          S::max_step(y_block(lambda, i), y_block(dlambda, i))});
+                          S::max_step(y_block(lambda, i), dy_block(dlambda, i))});
           }
         return t;
       }
@@ -361,7 +377,7 @@ namespace granflow::solvers
           {
             gap_affine += (a[i] + t_affine * da[i]) * (lambda[i * n] + t_affine * dlambda[i * n]);
             Block       xa = block(x, i), ya = y_block(lambda, i);
-            const Block dxa = block(dx, i), dya = y_block(dlambda, i);
+            const Block dxa = block(dx, i), dya = dy_block(dlambda, i);
             for (std::size_t p = 0; p < n; ++p)
               {
                 xa[p] += t_affine * dxa[p];
@@ -375,7 +391,7 @@ namespace granflow::solvers
           {
             rc1[i] += centering * tau - da[i] * dlambda[i * n];
             const Block second =
-                S::product(S::apply(W[i], block(dx, i)), S::apply(W_inv[i], y_block(dlambda, i)));
+                S::product(S::apply(W[i], block(dx, i)), S::apply(W_inv[i], dy_block(dlambda, i)));
             for (std::size_t p = 0; p < n; ++p)
               rc2[i][p] -= second[p];
             rc2[i][0] += centering * tau;
@@ -389,7 +405,7 @@ namespace granflow::solvers
           for (std::size_t i = 0; i < n_points; ++i)
             {
               Block       xs = block(x, i), ys = y_block(lambda, i);
-              const Block dxs = block(dx, i), dys = y_block(dlambda, i);
+              const Block dxs = block(dx, i), dys = dy_block(dlambda, i);
               for (std::size_t p = 0; p < n; ++p)
                 {
                   xs[p] += t * dxs[p];

@@ -28,15 +28,38 @@ namespace granflow::solvers::detail
     return r;
   }
 
-  /// Throws std::invalid_argument unless mu > 0 and Bi = 0 at every point.
-  inline void
-  check_interior_point_scope(const ConeProblemData &data)
+  /// The two interior points: on the split form of the law (cone_split_interior_point.cc) and on
+  /// the whole problem (cone_interior_point.cc).
+  enum class InteriorPointForm
+  {
+    split,
+    whole
+  };
+
+  /// Whether `form` handles the problem's mu and Bi at every point: the whole form needs mu > 0
+  /// and Bi = 0; the split form a friction cone with an interior, mu >= 0 and Bi >= 0 not both 0.
+  inline bool
+  interior_point_handles(const ConeProblemData &data, const InteriorPointForm form)
   {
     for (std::size_t i = 0; i < data.n_points(); ++i)
-      if (!(data.mu[i] > 0.) || data.Bi[i] != 0.)
-        throw std::invalid_argument(
-            "the interior-point method needs mu > 0 and Bi = 0 at every constraint point "
-            "(use the Cadoux fixed point otherwise)");
+      if (form == InteriorPointForm::whole
+              ? !(data.mu[i] > 0.) || data.Bi[i] != 0.
+              : !(data.mu[i] >= 0. && data.Bi[i] >= 0. && data.mu[i] + data.Bi[i] > 0.))
+        return false;
+    return true;
+  }
+
+  /// Throws std::invalid_argument unless interior_point_handles(data, form).
+  inline void
+  check_interior_point_scope(const ConeProblemData &data, const InteriorPointForm form)
+  {
+    if (!interior_point_handles(data, form))
+      throw std::invalid_argument(
+          form == InteriorPointForm::whole
+              ? "the interior point on the whole problem needs mu > 0 and Bi = 0 at every "
+                "constraint point (use its split form or the Cadoux fixed point otherwise)"
+              : "the interior-point method needs mu > 0 or Bi > 0 at every constraint point "
+                "(use the Cadoux fixed point otherwise)");
   }
 
   /// The step `t` halved until `interior(t)` holds (rounding can still put a block on the

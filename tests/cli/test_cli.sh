@@ -289,6 +289,11 @@ bad external-pressure-on-velocity "a Velocity boundary" --set "Boundary conditio
 bad velocity-into-closed-domain "Boundary conditions/Velocity': pushes a net volume flux of 1.99 into a domain" \
   --set "Boundary conditions/Zero y-velocity=" --set "Boundary conditions/Velocity=inlet: (2, 0), outlet: (1, 0)" \
   --set "Output/Reference=none"
+# closed by a curved no-slip wall too (the cylinder's faces are not along an axis)
+check velocity-into-closed-domain-with-cylinder 2 "pushes a net volume flux of 0.483" "$GRANFLOW" run \
+  "$SOURCE_DIR/cases/daviet2016/cylinder.prm" --output keep --quiet --set "Geometry/Mesh size=0.1" \
+  --set "Boundary conditions/No-slip=walls, cylinder" --set "Boundary conditions/External pressure=" \
+  --set "Boundary conditions/Velocity=inlet: (1, 0), outlet: (0.5, 0)"
 bad zero-normal-velocity-missing-boundary "entry 'Boundary conditions/Zero normal velocity'" \
   --set "Boundary conditions/Zero normal velocity=lid"
 bad zero-tangential-velocity-leaves-rigid-motion "the velocity can still translate along (1, 0)" \

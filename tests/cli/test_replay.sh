@@ -15,6 +15,10 @@ check dump-bagnold 0 "Results in" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/
   --quiet --output bagnold --set "Solver/Dump cone problem=$work/bagnold.bin"
 check dump-bingham 0 "Results in" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm" \
   --quiet --output bingham --set "Solver/Dump cone problem=$work/bingham.bin"
+# and a Newtonian channel (mu = Bi = 0), which only the fixed point solves
+check dump-newtonian 0 "Results in" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bingham_poiseuille.prm" \
+  --quiet --output newtonian --set "Rheology/Bi=0" --set "Geometry/Mesh size=0.2" \
+  --set "Solver/Dump cone problem=$work/newtonian.bin"
 
 check no-arguments 2 "no problem file (usage: replay_cone_problem PROBLEM.bin" "$REPLAY"
 check help 0 "GRANFLOW_REPLAY_MAX_SECONDS limits each solve" "$REPLAY" --help
@@ -53,9 +57,11 @@ assert all(e["converged"] and e["residual"] <= 1e-6 for e in r), r' out.txt; the
   pass "replay measures both methods"
 else fail "replay measures both methods"; cat out.txt; fi
 
-# The interior point refuses Bi > 0; the fixed point after it still runs, and both are printed.
-check unsuited-method 3 "ip: the interior-point method needs mu > 0 and Bi = 0" \
-  "$REPLAY" bingham.bin 1e-6 ip spg
+# The interior point solves the Bingham channel (mu = 0, Bi > 0: its split form alone)...
+check replay-bingham-interior-point 0 '"converged": true' "$REPLAY" bingham.bin 1e-5 ip
+# ... and refuses mu = Bi = 0; the fixed point after it still runs, and both are printed.
+check unsuited-method 3 "ip: the interior-point method needs mu > 0 or Bi > 0" \
+  "$REPLAY" newtonian.bin 1e-6 ip spg
 if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
 assert "error" in r[0] and r[1]["converged"], r' out.txt; then
   pass "unsuited method leaves the others' results"

@@ -511,13 +511,20 @@ namespace granflow::dp
             {
               fvf.reinit(cell, f);
               const Tensor<1, dim> n      = fvf.normal_vector(0);
-              bool                 closed = false;
+              // closed: both components fixed (No-slip, Velocity), the normal one (free slip),
+              // or the one component fixed (Zero x- or y-velocity) is the normal's
+              bool closed = false;
               for (const auto &vb : velocity_boundaries)
                 if (vb.id == cell->face(f)->boundary_id())
-                  for (unsigned int c = 0; c < dim; ++c)
-                    closed = closed || vb.direction == VelocityBoundary::Direction::normal ||
-                             (vb.direction == VelocityBoundary::Direction::none && vb.mask[c] &&
-                              std::abs(n[c]) > 1. - 1e-12);
+                  {
+                    if (vb.direction == VelocityBoundary::Direction::normal ||
+                        (vb.direction == VelocityBoundary::Direction::none &&
+                         vb.mask.n_selected_components(dim) == dim))
+                      closed = true;
+                    else if (vb.direction == VelocityBoundary::Direction::none)
+                      for (unsigned int c = 0; c < dim; ++c)
+                        closed = closed || (vb.mask[c] && std::abs(n[c]) > 1. - 1e-12);
+                  }
               if (!closed)
                 return; // material can leave (or enter) through this face
               fvf[velocity].get_function_values(u_D, values);

@@ -109,7 +109,7 @@ namespace granflow::dp
           "(a moving wall, an inflow), finite numbers. At a node shared with No-slip, Zero x- or "
           "Zero y-velocity, the components those fix stay zero (the end nodes of a moving lid "
           "between no-slip walls are at rest); at a node shared with Zero normal or tangential "
-          "velocity, u = u_D; where two of these boundaries meet, the one listed first gives the "
+          "velocity, u = u_D; where two Velocity boundaries meet, the one listed first gives the "
           "node its value. In a domain closed by velocity conditions, they must not push "
           "material in: div u >= 0 (24).",
           Anything());
@@ -152,8 +152,8 @@ namespace granflow::dp
           "Method", s.method,
           "fixed point: Cadoux's fixed point on s = mu |gamma_T| (Algorithm 1), each "
           "step a cone QP solved by the inner solver; any mu >= 0, Bi >= 0. interior "
-          "point: primal-dual interior point (mu > 0, Bi = 0 only) on the split form of "
-          "the law, then, where that stalls, on the whole problem; reaches tight "
+          "point: primal-dual interior point (mu > 0 or Bi > 0) on the split form of "
+          "the law, then, where that stalls and Bi = 0, on the whole problem; reaches tight "
           "tolerances where the fixed point stalls, but can lose its central path on fine "
           "meshes (docs/solvers.md).",
           Selection("fixed point|interior point"));
@@ -235,10 +235,12 @@ namespace granflow::dp
     check_list_items(boundaries.analytic_traction, f, "Boundary conditions/Analytic traction");
     check_list_items(boundaries.external_pressure, f, "Boundary conditions/External pressure");
     parse_named_velocities(boundaries.velocity, f, "Boundary conditions/Velocity");
+    // The split form's friction cone ||lambda_T|| <= Bi + mu lambda_N needs an interior.
     if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::interior_point &&
-        !(rheology.mu > 0. && rheology.Bi == 0.))
+        !(rheology.mu > 0. || rheology.Bi > 0.))
       throw InputError(f, "Solver/Method",
-                       "= interior point needs Rheology/mu > 0 and Rheology/Bi = 0; use fixed point");
+                       "= interior point needs Rheology/mu > 0 or Rheology/Bi > 0 (at mu = Bi = 0 "
+                       "the stress has no deviatoric part to solve for); use fixed point");
     if (!solver.dump_cone_problem.empty() && OutputDirectory::is_run_file(solver.dump_cone_problem))
       throw InputError(f, "Solver/Dump cone problem",
                        "= " + solver.dump_cone_problem +
