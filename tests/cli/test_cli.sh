@@ -276,8 +276,10 @@ bad velocity-one-component "cannot read 'top: (1)'" --set "Boundary conditions/N
   --set "Boundary conditions/Velocity=top: (1)"
 bad velocity-not-finite "cannot read 'top: (inf, 0)'" --set "Boundary conditions/No-slip=bottom" \
   --set "Boundary conditions/Velocity=top: (inf, 0)"
-bad velocity-trailing-comma "cannot read ','" --set "Boundary conditions/No-slip=bottom" \
+bad velocity-trailing-comma "after 'top: (1, 0)' comes a ',' and nothing" --set "Boundary conditions/No-slip=bottom" \
   --set "Boundary conditions/Velocity=top: (1, 0),"
+bad velocity-missing-comma "after 'top: (1, 0)' comes 'bottom: (0, 0)': expected ','" \
+  --set "Boundary conditions/No-slip=" --set "Boundary conditions/Velocity=top: (1, 0) bottom: (0, 0)"
 bad velocity-twice "entry 'Boundary conditions/Velocity': names boundary 'top' a second time" \
   --set "Boundary conditions/No-slip=bottom" --set "Boundary conditions/Velocity=top: (1, 0), top: (2, 0)"
 bad velocity-and-no-slip "names 'top', which is also in Boundary conditions/No-slip" \

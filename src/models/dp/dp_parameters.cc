@@ -388,6 +388,7 @@ namespace granflow::dp
     while (at < text.size())
       {
         // one item, "name: (x, y)", then a comma or the end
+        const std::size_t start = at;
         const std::size_t colon = text.find(':', at), open = text.find('(', at);
         const std::size_t close = open == std::string::npos ? open : text.find(')', open);
         if (colon == std::string::npos || open == std::string::npos || close == std::string::npos ||
@@ -416,8 +417,15 @@ namespace granflow::dp
           ++at;
         if (at < text.size())
           {
-            if (text[at] != ',' || trim(text.substr(at + 1)).empty())
-              refuse(text.substr(at));
+            const std::string item = "after '" + trim(text.substr(start, close + 1 - start)) + "'";
+            if (text[at] != ',')
+              throw InputError(file, entry,
+                               item + " comes '" + trim(text.substr(at)) +
+                                   "': expected ',' between items 'boundary: (u_x, u_y)'");
+            if (trim(text.substr(at + 1)).empty())
+              throw InputError(file, entry,
+                               item + " comes a ',' and nothing: expected another item "
+                                      "'boundary: (u_x, u_y)' or no comma");
             ++at;
           }
       }
