@@ -41,34 +41,63 @@ namespace
 class BinghamPoiseuille : public ::testing::TestWithParam<double>
 {};
 
+namespace
+{
+  /// The run's profile is within 1 % of the analytic one (6.1.1) and parallel, its summary's
+  /// max_rel_error is the CSV's, and its plug is rigid: two elements away from the yield surface,
+  /// the strain rate the rheology sees vanishes at every constraint point to the solver tolerance
+  /// (no regularisation creep). Even the thinnest plug (Bi = 0.1, 48 points) has points there, so
+  /// the check is never empty.
+  void
+  expect_bingham_profile_and_rigid_plug(const nlohmann::json &summary, const double Bi,
+                                        const double Re)
+  {
+    const auto csv = read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
+    ASSERT_EQ(csv.size(), 6u);
+    double max_err = 0., max_ref = 0., max_uy = 0.;
+    for (std::size_t k = 0; k < csv[0].size(); ++k)
+      {
+        const double ref = poiseuille(csv[0][k], Bi, Re);
+        max_err          = std::max(max_err, std::abs(csv[1][k] - ref));
+        max_ref          = std::max(max_ref, std::abs(ref));
+        max_uy           = std::max(max_uy, std::abs(csv[2][k]));
+      }
+    EXPECT_LE(max_uy, 0.01 * max_ref) << "the flow is parallel: u_y = 0";
+    ::testing::Test::RecordProperty("max_rel_error_" + std::to_string(Bi),
+                                    std::to_string(max_err / max_ref));
+    EXPECT_LE(max_err / max_ref, 0.01) << "Bi = " << Bi;
+    EXPECT_NEAR(summary["max_rel_error"].get<double>(), max_err / max_ref, 1e-8); // CSV precision
+    EXPECT_GT(summary["plug"]["points"].get<int>(), 0);
+    EXPECT_LE(summary["plug"]["max_scaled_strain_rate_T"].get<double>(),
+              summary["plug"]["rigid_threshold"].get<double>());
+  }
+} // namespace
+
 TEST_P(BinghamPoiseuille, ProfileWithinOnePercentAndRigidPlug)
 {
-  const double Bi = GetParam(), Re = 1.;
+  const double Bi = GetParam();
   const auto   summary =
-    run_case({{"Rheology/Bi", std::to_string(Bi)}, {"Output/Write vtu", "false"}}, "bp" + std::to_string(Bi));
+      run_case({{"Rheology/Bi", std::to_string(Bi)}, {"Output/Write vtu", "false"}},
+               "bp" + std::to_string(Bi));
   ASSERT_TRUE(summary["solver"]["converged"].get<bool>());
+  expect_bingham_profile_and_rigid_plug(summary, Bi, 1.);
+}
 
-  const auto csv = read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
-  ASSERT_EQ(csv.size(), 6u);
-  double max_err = 0., max_ref = 0., max_uy = 0.;
-  for (std::size_t k = 0; k < csv[0].size(); ++k)
+// The same channel by the interior point (its split form, which takes mu = 0 where Bi > 0, since
+// session 26): measured 0.018 % and 0.28 % at Bi = 0.3 and 0.9 in 29 and 33 iterations, the fixed
+// point's errors.
+TEST(BinghamPoiseuilleByTheInteriorPoint, ProfileWithinOnePercentAndRigidPlug)
+{
+  for (const double Bi : {0.3, 0.9})
     {
-      const double ref = poiseuille(csv[0][k], Bi, Re);
-      max_err          = std::max(max_err, std::abs(csv[1][k] - ref));
-      max_ref          = std::max(max_ref, std::abs(ref));
-      max_uy           = std::max(max_uy, std::abs(csv[2][k]));
+      const auto summary = run_case({{"Rheology/Bi", std::to_string(Bi)},
+                                     {"Solver/Method", "interior point"},
+                                     {"Output/Write vtu", "false"}},
+                                    "bp_ip" + std::to_string(Bi));
+      ASSERT_TRUE(summary["solver"]["converged"].get<bool>()) << Bi;
+      EXPECT_EQ(summary["solver"]["method"].get<std::string>(), "interior point");
+      expect_bingham_profile_and_rigid_plug(summary, Bi, 1.);
     }
-  EXPECT_LE(max_uy, 0.01 * max_ref) << "the flow is parallel: u_y = 0";
-  RecordProperty("max_rel_error", std::to_string(max_err / max_ref));
-  EXPECT_LE(max_err / max_ref, 0.01) << "Bi = " << Bi;
-  EXPECT_NEAR(summary["max_rel_error"].get<double>(), max_err / max_ref, 1e-8); // CSV precision
-
-  // The plug is rigid: two elements away from the yield surface, the strain rate the rheology
-  // sees vanishes at every constraint point to the solver tolerance (no regularisation creep).
-  // Even the thinnest plug (Bi = 0.1, 48 points) has points there, so the check is never empty.
-  EXPECT_GT(summary["plug"]["points"].get<int>(), 0);
-  EXPECT_LE(summary["plug"]["max_scaled_strain_rate_T"].get<double>(),
-            summary["plug"]["rigid_threshold"].get<double>());
 }
 
 INSTANTIATE_TEST_SUITE_P(Daviet611, BinghamPoiseuille, ::testing::Values(0.1, 0.3, 0.5, 0.7, 0.9));
