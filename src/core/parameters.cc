@@ -478,11 +478,7 @@ namespace granflow
                              "cannot read '" + item +
                                  "': expected 'boundary: number' (a finite number)");
           }
-        for (std::size_t i = 0; i + 1 < result.size(); ++i)
-          if (result[i].first == result.back().first)
-            throw InputError(file, entry,
-                             "names boundary '" + result.back().first +
-                                 "' a second time: expected each boundary at most once");
+        require_last_name_new(result, file, entry);
       }
     return result;
   }

@@ -119,6 +119,20 @@ namespace granflow
   double
   parse_number(const std::string &text);
 
+  /// Refuses a list of (name, value) items whose last name occurs earlier in it: each boundary
+  /// of a "name: value, ..." entry at most once. Throws InputError naming file and entry.
+  template <typename Value>
+  void
+  require_last_name_new(const std::vector<std::pair<std::string, Value>> &named,
+                        const std::string &file, const std::string &entry)
+  {
+    for (std::size_t i = 0; i + 1 < named.size(); ++i)
+      if (named[i].first == named.back().first)
+        throw InputError(file, entry,
+                         "names boundary '" + named.back().first +
+                             "' a second time: expected each boundary at most once");
+  }
+
   /// Parses "name: value, name: value" into pairs; throws InputError naming file and entry.
   std::vector<std::pair<std::string, double>>
   parse_named_values(const std::string &list, const std::string &file, const std::string &entry);

@@ -406,12 +406,8 @@ namespace granflow::dp
           {
             refuse(text.substr(at, close + 1 - at));
           }
-        for (const auto &[earlier, value] : result)
-          if (earlier == name)
-            throw InputError(file, entry,
-                             "names boundary '" + name +
-                                 "' a second time: expected each boundary at most once");
         result.emplace_back(name, u);
+        require_last_name_new(result, file, entry);
         at = close + 1;
         while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at])))
           ++at;
