@@ -297,6 +297,31 @@ check velocity-into-closed-domain-with-cylinder 2 "pushes a net volume flux of 0
   "$SOURCE_DIR/cases/daviet2016/cylinder.prm" --output keep --quiet --set "Geometry/Mesh size=0.1" \
   --set "Boundary conditions/No-slip=walls, cylinder" --set "Boundary conditions/External pressure=" \
   --set "Boundary conditions/Velocity=inlet: (1, 0), outlet: (0.5, 0)"
+# Boundary conditions/External stress: 'name: (s_xx, s_xy, s_yy), ...', on boundaries with no
+# velocity condition
+bad external-stress-two-components "cannot read 'top: (1, 2)': expected 'boundary: (s_xx, s_xy, s_yy), ...'" \
+  --set "Boundary conditions/No-slip=bottom" --set "Boundary conditions/External stress=top: (1, 2)"
+bad external-stress-on-no-slip "External stress': on 'top', a No-slip boundary: expected a boundary with no velocity condition" \
+  --set "Boundary conditions/External stress=top: (-1, 0.1, -1)"
+bad external-stress-and-pressure "on 'top', which is also in Boundary conditions/External pressure" \
+  --set "Boundary conditions/No-slip=bottom" --set "Boundary conditions/External pressure=top: 1" \
+  --set "Boundary conditions/External stress=top: (-1, 0.1, -1)" --set "Output/Reference=none"
+bad external-stress-missing-boundary "entry 'Boundary conditions/External stress': the mesh has no boundary named 'lid'" \
+  --set "Boundary conditions/External stress=lid: (-1, 0.1, -1)"
+# An analytic reference compares with the paper's problem: no moving boundary, no stress load.
+for entry in "Velocity=surface: (0.1, 0)" "External stress=surface: (-1, 0.1, -1)"; do
+  name=${entry%%=*}
+  check "bagnold-reference-refuses-${name// /-}" 2 "'Boundary conditions/${entry%%=*}': is set, but Output/Reference = bagnold" \
+    "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet --set "Boundary conditions/$entry"
+done
+# Each piece of the mesh is a domain of its own: the first square closed, its lid pushing material
+# in (the P2 lid between two nodes at rest: 2/3), the second open (its checks passed over the first).
+sed -e 's/^3$/4/' -e 's/^2 3 "domain"$/2 3 "domain"\n1 4 "lid"/' -e 's/^3 1 2 1 1 3 4$/3 1 2 4 4 3 4/' \
+  -e 's/^5 1 2 2 2 5 6$/5 1 2 1 1 5 6/' two_pieces.msh >closed_and_open.msh
+bad velocity-into-a-closed-piece "pushes a net volume flux of 0.667 into a domain that the velocity conditions close on every side on the part of the mesh around (0.5, 0.5)" \
+  --set "Geometry/Shape=file" --set "Geometry/Mesh file=closed_and_open.msh" --set "Boundary conditions/No-slip=wall" \
+  --set "Boundary conditions/Velocity=lid: (0, -1)" --set "Boundary conditions/Zero y-velocity=" \
+  --set "Output/Reference=none" --set "Output/Profile start=0, 0.5" --set "Output/Profile end=1, 0.5"
 bad zero-normal-velocity-missing-boundary "entry 'Boundary conditions/Zero normal velocity'" \
   --set "Boundary conditions/Zero normal velocity=lid"
 bad zero-tangential-velocity-leaves-rigid-motion "the velocity can still translate along (1, 0)" \

@@ -118,6 +118,17 @@ namespace granflow::dp
       for_each_boundary_node(const F &f) const;
       void
       constrain_directions();
+      using CellList = std::vector<typename DoFHandler<dim>::active_cell_iterator>;
+      /// The mesh's edge-connected pieces, each as its cells.
+      std::vector<CellList>
+      mesh_pieces() const;
+      /// The mean of a piece's cell centres.
+      static Point<dim>
+      centre_of(const CellList &piece);
+      /// " on the part of the mesh around (x, y) (n of N triangles, ...)" for a piece of a mesh
+      /// with several, "" for the whole mesh.
+      std::string
+      where_in_mesh(const CellList &piece) const;
       void
       require_no_free_rigid_motion() const;
       void
@@ -224,6 +235,8 @@ namespace granflow::dp
       std::vector<VelocityBoundary> velocity_boundaries;
       /// Boundary conditions/External pressure, parsed once by setup(): (boundary, p_ext).
       std::vector<std::pair<types::boundary_id, double>> external_pressures;
+      /// Boundary conditions/External stress, parsed once by setup(): (boundary, sigma_ext).
+      std::vector<std::pair<types::boundary_id, SymmetricTensor<2, dim>>> external_stresses;
       /// Boundary conditions/Analytic traction, parsed once by setup().
       std::vector<types::boundary_id> analytic_tractions;
       /// The velocity dofs in terms of the unknowns w of the cone problem: u_i = c_i
@@ -395,19 +408,16 @@ namespace granflow::dp
     /// that vanish at the constrained dofs are the kernel of the rows (1, 0, -y) for an x-dof and
     /// (0, 1, x) for a y-dof (coordinates centred and scaled on the piece): their Gram matrix must
     /// be regular.
-    void
-    Problem::require_no_free_rigid_motion() const
+    std::vector<Problem::CellList>
+    Problem::mesh_pieces() const
     {
-      std::map<types::global_dof_index, Point<dim>> support;
-      DoFTools::map_dofs_to_support_points(mapping, dof_u, support);
-      std::vector<bool>                    seen_cell(mesh.triangulation.n_active_cells(), false);
-      std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell());
+      std::vector<CellList> pieces;
+      std::vector<bool>     seen_cell(mesh.triangulation.n_active_cells(), false);
       for (const auto &seed : dof_u.active_cell_iterators())
         {
           if (seen_cell[seed->active_cell_index()])
             continue;
-          // The piece of `seed`: its cells, their constrained dofs, a centre and a size.
-          std::vector<typename DoFHandler<dim>::active_cell_iterator> stack{seed}, cells;
+          CellList stack{seed}, cells;
           seen_cell[seed->active_cell_index()] = true;
           while (!stack.empty())
             {
@@ -421,10 +431,43 @@ namespace granflow::dp
                     stack.push_back(cell->neighbor(f));
                   }
             }
-          Point<dim> centre;
-          double     size = 0.;
-          for (const auto &cell : cells)
-            centre += cell->center() / static_cast<double>(cells.size());
+          pieces.push_back(std::move(cells));
+        }
+      return pieces;
+    }
+
+    Point<dim>
+    Problem::centre_of(const CellList &piece)
+    {
+      Point<dim> centre;
+      for (const auto &cell : piece)
+        centre += cell->center() / static_cast<double>(piece.size());
+      return centre;
+    }
+
+    std::string
+    Problem::where_in_mesh(const CellList &piece) const
+    {
+      if (piece.size() == mesh.triangulation.n_active_cells())
+        return "";
+      const Point<dim>   centre = centre_of(piece);
+      std::ostringstream where;
+      where << " on the part of the mesh around (" << centre[0] << ", " << centre[1] << ") ("
+            << piece.size() << " of " << mesh.triangulation.n_active_cells()
+            << " triangles, joined to the rest by no edge)";
+      return where.str();
+    }
+
+    void
+    Problem::require_no_free_rigid_motion() const
+    {
+      std::map<types::global_dof_index, Point<dim>> support;
+      DoFTools::map_dofs_to_support_points(mapping, dof_u, support);
+      std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell());
+      for (const CellList &cells : mesh_pieces())
+        {
+          const Point<dim> centre = centre_of(cells);
+          double           size   = 0.;
           for (const auto &cell : cells)
             for (const unsigned int v : cell->vertex_indices())
               size = std::max(size, cell->vertex(v).distance(centre));
@@ -471,16 +514,11 @@ namespace granflow::dp
               what << std::setprecision(3) << "the velocity can still translate along ("
                    << component(m[0]) << ", " << component(m[1]) << ")";
             }
-          std::ostringstream where;
-          if (cells.size() < mesh.triangulation.n_active_cells())
-            where << " on the part of the mesh around (" << centre[0] << ", " << centre[1] << ") ("
-                  << cells.size() << " of " << mesh.triangulation.n_active_cells()
-                  << " triangles, joined to the rest by no edge)";
           // Named as the whole subsection: any of its velocity conditions can fix the motion.
           throw InputError(prm.case_file, "Boundary conditions",
                            "with its velocity conditions (" +
                                velocity_condition_entries(prm.boundaries) + ") " + what.str() +
-                               where.str() +
+                               where_in_mesh(cells) +
                                " (A is singular): expected velocity conditions that fix both "
                                "translations and the rotation of every part of the mesh");
         }
@@ -490,7 +528,7 @@ namespace granflow::dp
     /// int u_D . n: where Boundary conditions/Velocity pushes more material in than it lets out,
     /// no velocity has div u >= 0 (24) and the cone problem has no solution; the solvers would
     /// only say that they did not converge. The flux is that of the interpolated u_D, the one
-    /// the discrete problem sees.
+    /// the discrete problem sees. Each piece of the mesh is a domain of its own.
     void
     Problem::require_no_net_inflow_into_a_closed_domain() const
     {
@@ -504,45 +542,53 @@ namespace granflow::dp
       for (const auto &[i, value] : dirichlet)
         u_D[i] = value;
       std::vector<Tensor<1, dim>> values(face_quadrature.size());
-      double                      net = 0., gross = 0.;
-      for (const auto &cell : dof_u.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary())
-            {
-              fvf.reinit(cell, f);
-              const Tensor<1, dim> n      = fvf.normal_vector(0);
-              // closed: both components fixed (No-slip, Velocity), the normal one (free slip),
-              // or the one component fixed (Zero x- or y-velocity) is the normal's
-              bool closed = false;
-              for (const auto &vb : velocity_boundaries)
-                if (vb.id == cell->face(f)->boundary_id())
-                  {
-                    if (vb.direction == VelocityBoundary::Direction::normal ||
-                        (vb.direction == VelocityBoundary::Direction::none &&
-                         vb.mask.n_selected_components(dim) == dim))
-                      closed = true;
-                    else if (vb.direction == VelocityBoundary::Direction::none)
-                      for (unsigned int c = 0; c < dim; ++c)
-                        closed = closed || (vb.mask[c] && std::abs(n[c]) > 1. - 1e-12);
-                  }
-              if (!closed)
-                return; // material can leave (or enter) through this face
-              fvf[velocity].get_function_values(u_D, values);
-              double flux = 0.;
-              for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                flux += values[q] * fvf.normal_vector(q) * fvf.JxW(q);
-              net += flux;
-              gross += std::abs(flux);
-            }
-      if (net < -1e-9 * gross)
-        {
-          std::ostringstream what;
-          what << std::setprecision(3) << "pushes a net volume flux of " << -net
-               << " into a domain that the velocity conditions close on every side; the material "
-                  "cannot be compressed (div u >= 0, Daviet (24)): expected velocities whose "
-                  "outflow is at least their inflow, or a boundary left open (External pressure)";
-          throw InputError(prm.case_file, "Boundary conditions/Velocity", what.str());
-        }
+      // The net and the gross flux into a piece, or nothing if a face of it is open.
+      const auto closed_flux =
+          [&](const CellList &piece) -> std::optional<std::pair<double, double>> {
+        double net = 0., gross = 0.;
+        for (const auto &cell : piece)
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary())
+              {
+                fvf.reinit(cell, f);
+                const Tensor<1, dim> n = fvf.normal_vector(0);
+                // closed: both components fixed (No-slip, Velocity), the normal one (free slip),
+                // or the one component fixed (Zero x- or y-velocity) is the normal's
+                bool closed = false;
+                for (const auto &vb : velocity_boundaries)
+                  if (vb.id == cell->face(f)->boundary_id())
+                    {
+                      if (vb.direction == VelocityBoundary::Direction::normal ||
+                          (vb.direction == VelocityBoundary::Direction::none &&
+                           vb.mask.n_selected_components(dim) == dim))
+                        closed = true;
+                      else if (vb.direction == VelocityBoundary::Direction::none)
+                        for (unsigned int c = 0; c < dim; ++c)
+                          closed = closed || (vb.mask[c] && std::abs(n[c]) > 1. - 1e-12);
+                    }
+                if (!closed)
+                  return std::nullopt; // material can leave (or enter) through this face
+                fvf[velocity].get_function_values(u_D, values);
+                double flux = 0.;
+                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+                  flux += values[q] * fvf.normal_vector(q) * fvf.JxW(q);
+                net += flux;
+                gross += std::abs(flux);
+              }
+        return std::make_pair(net, gross);
+      };
+      for (const CellList &piece : mesh_pieces())
+        if (const auto flux = closed_flux(piece); flux && flux->first < -1e-9 * flux->second)
+          {
+            std::ostringstream what;
+            what << std::setprecision(3) << "pushes a net volume flux of " << -flux->first
+                 << " into a domain that the velocity conditions close on every side"
+                 << where_in_mesh(piece)
+                 << "; the material "
+                    "cannot be compressed (div u >= 0, Daviet (24)): expected velocities whose "
+                    "outflow is at least their inflow, or a boundary left open (External pressure)";
+            throw InputError(prm.case_file, "Boundary conditions/Velocity", what.str());
+          }
     }
 
     /// Daviet (25a): a(u, v) = 2/Re int eta (D0(u):D0(v) + b/d div u div v), l(v) = int e_g . v
@@ -628,11 +674,18 @@ namespace granflow::dp
               }
       };
 
-      // Neumann boundaries (21): traction sigma_ext n = -p_ext n.
+      // Neumann boundaries (21): traction sigma_ext n, with sigma_ext = -p_ext I (External
+      // pressure) or as given (External stress).
       for (const auto &[id, p_ext] : external_pressures)
         add_traction(id, 3, [p_ext = p_ext](const Point<dim> &, const Tensor<1, dim> &normal) {
           return -p_ext * normal;
         });
+
+      for (const auto &[id, sigma_ext] : external_stresses)
+        add_traction(id, 3,
+                     [sigma_ext = sigma_ext](const Point<dim> &, const Tensor<1, dim> &normal) {
+                       return sigma_ext * normal;
+                     });
 
       // Boundaries loaded by the traction of the analytic reference: Bagnold (6.1.3), the
       // upstream / downstream stresses of the infinite layer. In the frame of the plane,
@@ -977,6 +1030,28 @@ namespace granflow::dp
                                  "pressure does nothing: expected a boundary where the normal "
                                  "velocity is free");
         }
+      const std::string stress_entry = "Boundary conditions/External stress";
+      for (const auto &[name, sigma] :
+           parse_named_stresses(bc.external_stress, prm.case_file, stress_entry))
+        {
+          const types::boundary_id id = mesh.id(name, prm.case_file, stress_entry);
+          // (20b)-(21) hold on B_N, where the velocity is free; where a velocity condition fixes
+          // some direction, the reaction there would take up the stress's part along it.
+          if (const auto condition = condition_of.find(id); condition != condition_of.end())
+            throw InputError(prm.case_file, stress_entry,
+                             "on '" + name + "', a " + condition->second +
+                                 " boundary: expected a boundary with no velocity condition "
+                                 "(where the velocity is fixed in one direction, External "
+                                 "pressure loads the other)");
+          for (const auto &[pressed, p_ext] : external_pressures)
+            if (pressed == id)
+              throw InputError(prm.case_file, stress_entry,
+                               "on '" + name +
+                                   "', which is also in Boundary conditions/External pressure: "
+                                   "expected one load per boundary (a pressure p is the stress "
+                                   "(-p, 0, -p))");
+          external_stresses.emplace_back(id, sigma);
+        }
       for (const std::string &name : split_list(bc.analytic_traction))
         analytic_tractions.push_back(
             mesh.id(name, prm.case_file, "Boundary conditions/Analytic traction"));
@@ -1039,6 +1114,8 @@ namespace granflow::dp
       for (const auto &vb : velocity_boundaries)
         conditioned.insert(vb.id);
       for (const auto &[id, p] : external_pressures)
+        conditioned.insert(id);
+      for (const auto &[id, sigma] : external_stresses)
         conditioned.insert(id);
       conditioned.insert(analytic_tractions.begin(), analytic_tractions.end());
       std::string free;
@@ -1334,9 +1411,13 @@ namespace granflow::dp
             }
           if (stagnating)
             {
-              s << "; over its last " << history.size() - half
-                << " iterations the least residual fell only from " << first << " to " << second
-                << ", so higher limits will not help";
+              s << "; over its last " << history.size() - half << " iterations the least residual ";
+              if (second < first)
+                s << "fell only from " << first << " to " << second;
+              else // rising ("fell from 1.8 to 11" read as a misprint)
+                s << "stayed above " << first << ", the least of the first " << half << " (it was "
+                  << second << ")";
+              s << ", so higher limits will not help";
               if (prm.rheology.Bi == 0. && prm.rheology.mu > 0.)
                 s << "; Solver/Method = interior point may). ";
               else

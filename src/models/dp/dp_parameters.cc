@@ -134,6 +134,14 @@ namespace granflow::dp
           "External pressure", b.external_pressure,
           "'name: p_ext, ...': traction -p_ext n on these boundaries (21), p_ext finite.",
           Anything());
+      prm.add_parameter(
+          "External stress", b.external_stress,
+          "'name: (s_xx, s_xy, s_yy), ...': traction sigma_ext n on these boundaries (21), with "
+          "sigma_ext the constant symmetric stress [[s_xx, s_xy], [s_xy, s_yy]] (tension "
+          "positive: a pressure p is s_xx = s_yy = -p), finite numbers; e.g. a shear load (s_xy, "
+          "-p) on a face y = const. Only on a boundary with no velocity condition and no External "
+          "pressure.",
+          Anything());
       prm.add_parameter("Analytic traction", b.analytic_traction,
                         "Boundaries loaded by the traction of the analytic reference (bagnold).",
                         Anything());
@@ -235,6 +243,7 @@ namespace granflow::dp
     check_list_items(boundaries.analytic_traction, f, "Boundary conditions/Analytic traction");
     check_list_items(boundaries.external_pressure, f, "Boundary conditions/External pressure");
     parse_named_velocities(boundaries.velocity, f, "Boundary conditions/Velocity");
+    parse_named_stresses(boundaries.external_stress, f, "Boundary conditions/External stress");
     // The split form's friction cone ||lambda_T|| <= Bi + mu lambda_N needs an interior.
     if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::interior_point &&
         !(rheology.mu > 0. || rheology.Bi > 0.))
@@ -317,6 +326,16 @@ namespace granflow::dp
   Parameters::require_reference_boundaries() const
   {
     const std::string &f = case_file;
+    // Neither reference has a moving boundary or a stress load other than its own.
+    if (output.reference != "none")
+      for (const auto &[text, entry, what] :
+           {std::make_tuple(&boundaries.velocity, "Velocity", "moving boundary"),
+            std::make_tuple(&boundaries.external_stress, "External stress", "external stress")})
+        if (!trim(*text).empty())
+          throw InputError(f, std::string("Boundary conditions/") + entry,
+                           "is set, but Output/Reference = " + output.reference +
+                               " solves the paper's problem, which has no " + what +
+                               ": expected it empty, or Output/Reference = none");
     // The Bingham reference (6.1.1) is (23)-(24) with u = 0 on the walls y = +-1 and the ends
     // free along the channel, under one pressure or none (which does not change a flow at mu =
     // 0); with other conditions its max_rel_error would be a silent wrong answer.
@@ -373,21 +392,42 @@ namespace granflow::dp
       }
   }
 
-  std::vector<std::pair<std::string, dealii::Tensor<1, 2>>>
-  parse_named_velocities(const std::string &text, const std::string &file, const std::string &entry)
+  std::vector<std::pair<std::string, std::vector<double>>>
+  parse_named_tuples(const std::string &text, const std::string &file, const std::string &entry,
+                     const std::vector<std::string> &components)
   {
-    std::vector<std::pair<std::string, dealii::Tensor<1, 2>>> result;
+    std::string tuple = "(";
+    for (const std::string &c : components)
+      tuple += (tuple.size() > 1 ? ", " : "") + c;
+    tuple += ")";
+    std::vector<std::pair<std::string, std::vector<double>>> result;
     if (trim(text).empty())
       return result;
     const auto refuse = [&](const std::string &what) {
       throw InputError(file, entry,
-                       "cannot read '" + trim(what) +
-                           "': expected 'boundary: (u_x, u_y), ...' (finite numbers)");
+                       "cannot read '" + trim(what) + "': expected 'boundary: " + tuple +
+                           ", ...' (finite numbers)");
+    };
+    // exactly components.size() numbers: "1,,0" is not two (split_list would drop the empty item)
+    const auto numbers = [&](const std::string &inside) {
+      std::vector<double> values;
+      std::size_t         from = 0;
+      for (;;)
+        {
+          const std::size_t comma = inside.find(',', from);
+          values.push_back(parse_number(inside.substr(from, comma - from)));
+          if (comma == std::string::npos)
+            break;
+          from = comma + 1;
+        }
+      if (values.size() != components.size())
+        throw std::invalid_argument("");
+      return values;
     };
     std::size_t at = 0;
     while (at < text.size())
       {
-        // one item, "name: (x, y)", then a comma or the end
+        // one item, "name: (x, y, ...)", then a comma or the end
         const std::size_t start = at;
         const std::size_t colon = text.find(':', at), open = text.find('(', at);
         const std::size_t close = open == std::string::npos ? open : text.find(')', open);
@@ -397,16 +437,16 @@ namespace granflow::dp
         const std::string name = trim(text.substr(at, colon - at));
         if (name.empty() || name.find(',') != std::string::npos)
           refuse(text.substr(at, close + 1 - at));
-        dealii::Point<2> u;
+        std::vector<double> values;
         try
           {
-            u = parse_point(text.substr(open + 1, close - open - 1), file, entry);
+            values = numbers(text.substr(open + 1, close - open - 1));
           }
-        catch (const InputError &)
+        catch (const std::exception &)
           {
             refuse(text.substr(at, close + 1 - at));
           }
-        result.emplace_back(name, u);
+        result.emplace_back(name, values);
         require_last_name_new(result, file, entry);
         at = close + 1;
         while (at < text.size() && std::isspace(static_cast<unsigned char>(text[at])))
@@ -417,13 +457,39 @@ namespace granflow::dp
             if (text[at] != ',')
               throw InputError(file, entry,
                                item + " comes '" + trim(text.substr(at)) +
-                                   "': expected ',' between items 'boundary: (u_x, u_y)'");
+                                   "': expected ',' between items 'boundary: " + tuple + "'");
             if (trim(text.substr(at + 1)).empty())
               throw InputError(file, entry,
-                               item + " comes a ',' and nothing: expected another item "
-                                      "'boundary: (u_x, u_y)' or no comma");
+                               item +
+                                   " comes a ',' and nothing: expected another item "
+                                   "'boundary: " +
+                                   tuple + "' or no comma");
             ++at;
           }
+      }
+    return result;
+  }
+
+  std::vector<std::pair<std::string, dealii::Tensor<1, 2>>>
+  parse_named_velocities(const std::string &text, const std::string &file, const std::string &entry)
+  {
+    std::vector<std::pair<std::string, dealii::Tensor<1, 2>>> result;
+    for (const auto &[name, u] : parse_named_tuples(text, file, entry, {"u_x", "u_y"}))
+      result.emplace_back(name, dealii::Tensor<1, 2>({u[0], u[1]}));
+    return result;
+  }
+
+  std::vector<std::pair<std::string, dealii::SymmetricTensor<2, 2>>>
+  parse_named_stresses(const std::string &text, const std::string &file, const std::string &entry)
+  {
+    std::vector<std::pair<std::string, dealii::SymmetricTensor<2, 2>>> result;
+    for (const auto &[name, s] : parse_named_tuples(text, file, entry, {"s_xx", "s_xy", "s_yy"}))
+      {
+        dealii::SymmetricTensor<2, 2> sigma;
+        sigma[0][0] = s[0];
+        sigma[0][1] = s[1];
+        sigma[1][1] = s[2];
+        result.emplace_back(name, sigma);
       }
     return result;
   }

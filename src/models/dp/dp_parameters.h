@@ -3,6 +3,7 @@
 #pragma once
 
 #include <deal.II/base/parameter_handler.h>
+#include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/base/tensor.h>
 
 #include "core/parameters.h"
@@ -49,6 +50,7 @@ namespace granflow::dp
     std::string zero_normal_velocity;     // u . n = 0, no tangential traction (free slip)
     std::string zero_tangential_velocity; // u . t = 0, normal traction as given (default 0)
     std::string external_pressure; // "name: p_ext, ...": traction sigma_ext n = -p_ext n (21)
+    std::string external_stress;   // "name: (s_xx, s_xy, s_yy), ...": traction sigma_ext n (21)
     std::string analytic_traction; // "name, ...": traction of the case's analytic reference
 
     /// The velocity conditions: each one's boundary list and its entry (in Boundary conditions).
@@ -135,9 +137,20 @@ namespace granflow::dp
   dealii::Point<2>
   parse_point(const std::string &text, const std::string &file, const std::string &entry);
 
-  /// Boundary conditions/Velocity: "name: (u_x, u_y), name: (u_x, u_y)" into pairs, each name
-  /// once; throws InputError naming file and entry.
+  /// "name: (a, b, ...), name: (a, b, ...)" with one finite number per entry of `components`
+  /// (their names, for the message) into pairs, each name once; throws InputError naming file and
+  /// entry.
+  std::vector<std::pair<std::string, std::vector<double>>>
+  parse_named_tuples(const std::string &text, const std::string &file, const std::string &entry,
+                     const std::vector<std::string> &components);
+
+  /// Boundary conditions/Velocity: "name: (u_x, u_y), ..." (parse_named_tuples).
   std::vector<std::pair<std::string, dealii::Tensor<1, 2>>>
   parse_named_velocities(const std::string &text, const std::string &file,
                          const std::string &entry);
+
+  /// Boundary conditions/External stress: "name: (s_xx, s_xy, s_yy), ..." (parse_named_tuples),
+  /// the symmetric sigma_ext of (21).
+  std::vector<std::pair<std::string, dealii::SymmetricTensor<2, 2>>>
+  parse_named_stresses(const std::string &text, const std::string &file, const std::string &entry);
 } // namespace granflow::dp
