@@ -318,7 +318,7 @@ done
 # in (the P2 lid between two nodes at rest: 2/3), the second open (its checks passed over the first).
 sed -e 's/^3$/4/' -e 's/^2 3 "domain"$/2 3 "domain"\n1 4 "lid"/' -e 's/^3 1 2 1 1 3 4$/3 1 2 4 4 3 4/' \
   -e 's/^5 1 2 2 2 5 6$/5 1 2 1 1 5 6/' two_pieces.msh >closed_and_open.msh
-bad velocity-into-a-closed-piece "pushes a net volume flux of 0.667 into a domain that the velocity conditions close on every side on the part of the mesh around (0.5, 0.5)" \
+bad velocity-into-a-closed-piece "pushes a net volume flux of 0.667 into the part of the mesh around (0.5, 0.5) (2 of 4 triangles, joined to the rest by no edge) that the velocity conditions close on every side" \
   --set "Geometry/Shape=file" --set "Geometry/Mesh file=closed_and_open.msh" --set "Boundary conditions/No-slip=wall" \
   --set "Boundary conditions/Velocity=lid: (0, -1)" --set "Boundary conditions/Zero y-velocity=" \
   --set "Output/Reference=none" --set "Output/Profile start=0, 0.5" --set "Output/Profile end=1, 0.5"

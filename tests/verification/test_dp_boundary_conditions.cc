@@ -175,9 +175,10 @@ TEST(ExternalStress, ShearLoadedLayerYieldsAtBiPlusMuP)
     double P, s;
   };
   // a plug over the top 0.3 (P = 1); flowing only near the bottom, y < 0.1 (P = 3: the same
-  // traction, a higher yield stress); flowing forwards at the bottom and backwards at the top,
-  // a plug between (s = -0.5); at rest (P = 10: the yield stress 3.1 exceeds the largest shear
-  // stress 2.1)
+  // traction, a higher yield stress); sheared forwards near the bottom and the other way near the
+  // top, a plug between (s = -0.5: u' < 0 for y > 0.9, the top 0.005 slower than the plug, 8
+  // times the profile's tolerance); at rest (P = 10: the yield stress 3.1 exceeds the largest
+  // shear stress 2.1)
   for (const Load load : {Load{1., 0.1}, Load{3., 0.1}, Load{1., -0.5}, Load{10., 0.1}})
     {
       const std::string P = std::to_string(load.P), s = std::to_string(load.s);
@@ -196,7 +197,8 @@ TEST(ExternalStress, ShearLoadedLayerYieldsAtBiPlusMuP)
                   {"Output/Write vtu", "false"}},
                  name);
       ASSERT_TRUE(summary["solver"]["converged"].get<bool>()) << name;
-      EXPECT_NEAR(summary["boundary_force"][0].get<double>(), load.s + 2., 1e-6) << name;
+      // global equilibrium: checks how the load is assembled, not the rheology
+      EXPECT_NEAR(summary["boundary_force"][0].get<double>(), load.s + 2., 1e-9) << name;
       const auto csv =
           granflow::test::read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
       double max_err = 0., max_ref = 0.;

@@ -125,8 +125,8 @@ namespace granflow::dp
       /// The mean of a piece's cell centres.
       static Point<dim>
       centre_of(const CellList &piece);
-      /// " on the part of the mesh around (x, y) (n of N triangles, ...)" for a piece of a mesh
-      /// with several, "" for the whole mesh.
+      /// "the part of the mesh around (x, y) (n of N triangles, ...)" for a piece of a mesh with
+      /// several, "" for the whole mesh.
       std::string
       where_in_mesh(const CellList &piece) const;
       void
@@ -401,13 +401,7 @@ namespace granflow::dp
         }
     }
 
-    /// A (25a) vanishes on rigid motions (D(u) = 0), so the velocity conditions must leave none
-    /// free on any piece of the mesh; else A is singular, and a Cholesky factorisation in floating
-    /// point need not notice (tiny positive pivots): the velocity would come out as 1e14 with a
-    /// "converged" residual. On each edge-connected piece, the rigid motions u = (a - w y, b + w x)
-    /// that vanish at the constrained dofs are the kernel of the rows (1, 0, -y) for an x-dof and
-    /// (0, 1, x) for a y-dof (coordinates centred and scaled on the piece): their Gram matrix must
-    /// be regular.
+    /// The mesh's edge-connected pieces (a user mesh may have several), each as its cells.
     std::vector<Problem::CellList>
     Problem::mesh_pieces() const
     {
@@ -452,12 +446,19 @@ namespace granflow::dp
         return "";
       const Point<dim>   centre = centre_of(piece);
       std::ostringstream where;
-      where << " on the part of the mesh around (" << centre[0] << ", " << centre[1] << ") ("
+      where << "the part of the mesh around (" << centre[0] << ", " << centre[1] << ") ("
             << piece.size() << " of " << mesh.triangulation.n_active_cells()
             << " triangles, joined to the rest by no edge)";
       return where.str();
     }
 
+    /// A (25a) vanishes on rigid motions (D(u) = 0), so the velocity conditions must leave none
+    /// free on any piece of the mesh; else A is singular, and a Cholesky factorisation in floating
+    /// point need not notice (tiny positive pivots): the velocity would come out as 1e14 with a
+    /// "converged" residual. On each edge-connected piece, the rigid motions u = (a - w y, b + w x)
+    /// that vanish at the constrained dofs are the kernel of the rows (1, 0, -y) for an x-dof and
+    /// (0, 1, x) for a y-dof (coordinates centred and scaled on the piece): their Gram matrix must
+    /// be regular.
     void
     Problem::require_no_free_rigid_motion() const
     {
@@ -518,7 +519,7 @@ namespace granflow::dp
           throw InputError(prm.case_file, "Boundary conditions",
                            "with its velocity conditions (" +
                                velocity_condition_entries(prm.boundaries) + ") " + what.str() +
-                               where_in_mesh(cells) +
+                               (where_in_mesh(cells).empty() ? "" : " on " + where_in_mesh(cells)) +
                                " (A is singular): expected velocity conditions that fix both "
                                "translations and the rotation of every part of the mesh");
         }
@@ -582,11 +583,12 @@ namespace granflow::dp
           {
             std::ostringstream what;
             what << std::setprecision(3) << "pushes a net volume flux of " << -flux->first
-                 << " into a domain that the velocity conditions close on every side"
-                 << where_in_mesh(piece)
-                 << "; the material "
+                 << " into " << (where_in_mesh(piece).empty() ? "a domain" : where_in_mesh(piece))
+                 << " that the velocity conditions close on every side; the material "
                     "cannot be compressed (div u >= 0, Daviet (24)): expected velocities whose "
-                    "outflow is at least their inflow, or a boundary left open (External pressure)";
+                    "outflow is at least their inflow, or a boundary left open (one with no "
+                    "velocity "
+                    "condition, External pressure or External stress)";
             throw InputError(prm.case_file, "Boundary conditions/Velocity", what.str());
           }
     }
@@ -1035,14 +1037,16 @@ namespace granflow::dp
            parse_named_stresses(bc.external_stress, prm.case_file, stress_entry))
         {
           const types::boundary_id id = mesh.id(name, prm.case_file, stress_entry);
-          // (20b)-(21) hold on B_N, where the velocity is free; where a velocity condition fixes
-          // some direction, the reaction there would take up the stress's part along it.
+          // The natural condition sigma_tot n = sigma_ext n (the sum of (20b) and (21)) holds on
+          // B_N, where the velocity is free; where a velocity condition fixes some direction, the
+          // reaction there would take up the stress's part along it.
           if (const auto condition = condition_of.find(id); condition != condition_of.end())
             throw InputError(prm.case_file, stress_entry,
                              "on '" + name + "', a " + condition->second +
-                                 " boundary: expected a boundary with no velocity condition "
-                                 "(where the velocity is fixed in one direction, External "
-                                 "pressure loads the other)");
+                                 " boundary: expected a boundary with no velocity condition (for a "
+                                 "normal load on a "
+                                 "boundary with one velocity component fixed, use External "
+                                 "pressure)");
           for (const auto &[pressed, p_ext] : external_pressures)
             if (pressed == id)
               throw InputError(prm.case_file, stress_entry,
@@ -1415,8 +1419,9 @@ namespace granflow::dp
               if (second < first)
                 s << "fell only from " << first << " to " << second;
               else // rising ("fell from 1.8 to 11" read as a misprint)
-                s << "stayed above " << first << ", the least of the first " << half << " (it was "
-                  << second << ")";
+                s << "did not fall below " << first << ", the least of the first " << half
+                  << " (the least of the last " << history.size() - half << " was " << second
+                  << ")";
               s << ", so higher limits will not help";
               if (prm.rheology.Bi == 0. && prm.rheology.mu > 0.)
                 s << "; Solver/Method = interior point may). ";

@@ -136,7 +136,8 @@ namespace granflow::dp
           Anything());
       prm.add_parameter(
           "External stress", b.external_stress,
-          "'name: (s_xx, s_xy, s_yy), ...': traction sigma_ext n on these boundaries (21), with "
+          "'name: (s_xx, s_xy, s_yy), ...': total traction sigma_ext n on these boundaries "
+          "((20b) + (21)), with "
           "sigma_ext the constant symmetric stress [[s_xx, s_xy], [s_xy, s_yy]] (tension "
           "positive: a pressure p is s_xx = s_yy = -p), finite numbers; e.g. a shear load (s_xy, "
           "-p) on a face y = const. Only on a boundary with no velocity condition and no External "
