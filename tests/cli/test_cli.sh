@@ -314,6 +314,13 @@ for entry in "Velocity=surface: (0.1, 0)" "External stress=surface: (-1, 0.1, -1
   check "bagnold-reference-refuses-${name// /-}" 2 "'Boundary conditions/${entry%%=*}': is set, but Output/Reference = bagnold" \
     "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet --set "Boundary conditions/$entry"
 done
+# A load that pulls (tension is positive in sigma_ext) runs, with a warning in summary.json.
+"$GRANFLOW" run "$case_file" --output tension --quiet --set "Output/Reference=none" --set "Rheology/mu=0.3" \
+  --set "Solver/Method=interior point" --set "Boundary conditions/No-slip=bottom" \
+  --set "Boundary conditions/External stress=top: (1, 0.1, 1)" --set "Geometry/Mesh size=0.1" \
+  --set "Boundary conditions/External pressure=inlet: 1, outlet: 1" --set "Output/Write vtu=false" >/dev/null 2>&1
+if /usr/bin/python3 -c "import json,sys; w=json.load(open('tension/summary.json'))['warnings']; sys.exit(not any(x.startswith(\"Boundary conditions/External stress pulls on 'top' (a normal traction of up to 1 outwards\") for x in w))"
+then pass "external-stress-in-tension-warns"; else fail "external-stress-in-tension-warns"; fi
 # Each piece of the mesh is a domain of its own: the first square closed, its lid pushing material
 # in (the P2 lid between two nodes at rest: 2/3), the second open (its checks passed over the first).
 sed -e 's/^3$/4/' -e 's/^2 3 "domain"$/2 3 "domain"\n1 4 "lid"/' -e 's/^3 1 2 1 1 3 4$/3 1 2 4 4 3 4/' \

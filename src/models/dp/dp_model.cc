@@ -108,6 +108,8 @@ namespace granflow::dp
       apply_boundary_conditions();
       /// free_index, free_coefficient, reaction_dof and n_free from the constraints.
       void
+      warn_of_tension();
+      void
       number_free_dofs();
       void
       note_unconditioned_and_unresolved_boundaries();
@@ -1043,10 +1045,9 @@ namespace granflow::dp
           if (const auto condition = condition_of.find(id); condition != condition_of.end())
             throw InputError(prm.case_file, stress_entry,
                              "on '" + name + "', a " + condition->second +
-                                 " boundary: expected a boundary with no velocity condition (for a "
-                                 "normal load on a "
-                                 "boundary with one velocity component fixed, use External "
-                                 "pressure)");
+                                 " boundary: expected a boundary with no velocity condition (for "
+                                 "a normal load on a boundary with one velocity component fixed, "
+                                 "use External pressure)");
           for (const auto &[pressed, p_ext] : external_pressures)
             if (pressed == id)
               throw InputError(prm.case_file, stress_entry,
@@ -1056,6 +1057,7 @@ namespace granflow::dp
                                    "(-p, 0, -p))");
           external_stresses.emplace_back(id, sigma);
         }
+      warn_of_tension();
       for (const std::string &name : split_list(bc.analytic_traction))
         analytic_tractions.push_back(
             mesh.id(name, prm.case_file, "Boundary conditions/Analytic traction"));
@@ -1072,6 +1074,51 @@ namespace granflow::dp
         }
       if (!prm.output.inflow_boundary.empty())
         mesh.id(prm.output.inflow_boundary, prm.case_file, "Output/Inflow boundary");
+    }
+
+    /// A granular material carries no tension: lambda_N >= 0 (the cone K_mu of (16)). A load
+    /// that pulls on a boundary (a negative External pressure, an External stress with n .
+    /// sigma_ext n > 0 on some face) is resisted only by the viscous stress 2/Re D^b(u), so the
+    /// material there dilates (div u > 0); more often it is a sign written the wrong way (tension
+    /// is positive in sigma_ext), hence the warning.
+    void
+    Problem::warn_of_tension()
+    {
+      const QGauss<dim - 1> face_quadrature(1);
+      FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature, update_normal_vectors);
+      const auto            largest_pull = [&](const types::boundary_id id, const auto &sigma) {
+        double pull = -std::numeric_limits<double>::infinity();
+        for (const auto &cell : dof_u.active_cell_iterators())
+          for (const unsigned int f : cell->face_indices())
+            if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
+              {
+                fvf.reinit(cell, f);
+                const Tensor<1, dim> n = fvf.normal_vector(0);
+                pull                   = std::max(pull, n * (sigma * n));
+              }
+        return pull;
+      };
+      const auto warn = [&](const std::string &entry, const types::boundary_id id,
+                            const double pull, const std::string &convention) {
+        std::string name;
+        for (const auto &[n, i] : mesh.boundary_ids)
+          if (i == id)
+            name = n;
+        std::ostringstream w;
+        w << std::setprecision(3) << "Boundary conditions/" << entry << " pulls on '" << name
+          << "' (a normal traction of up to " << pull << " outwards; " << convention
+          << "): the "
+             "granular stress carries no tension (lambda_N >= 0), only the viscous stress "
+             "2/Re D^b(u) resists it, and the material there dilates";
+        report.warn(w.str());
+      };
+      for (const auto &[id, p_ext] : external_pressures)
+        if (p_ext < 0.)
+          warn("External pressure", id, -p_ext, "a negative pressure");
+      for (const auto &[id, sigma] : external_stresses)
+        if (const double pull = largest_pull(id, sigma); pull > 0.)
+          warn("External stress", id, pull,
+               "sigma_ext has tension positive, a pressure p is (-p, 0, -p)");
     }
 
     void
