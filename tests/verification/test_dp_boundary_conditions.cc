@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <vector>
 
 namespace
 {
@@ -41,6 +42,26 @@ namespace
     velocity(const double y) const
     {
       return Re * (F(tau0 + 1.) - F(tau0 - y));
+    }
+  };
+
+  /// The run's profiles/velocity.csv (y, u_x, ...) against the layer's u(y): the largest
+  /// difference and the largest |u(y)| over its points.
+  struct ProfileComparison
+  {
+    std::vector<std::vector<double>> csv;
+    double                           max_error = 0., max_reference = 0.;
+
+    ProfileComparison(const nlohmann::json &summary, const ShearLayer &reference)
+        : csv(granflow::test::read_csv(summary["dir"].get<std::string>() +
+                                       "/profiles/velocity.csv"))
+    {
+      for (std::size_t k = 0; k < csv[0].size(); ++k)
+        {
+          const double ref = reference.velocity(csv[0][k]);
+          max_error        = std::max(max_error, std::abs(csv[1][k] - ref));
+          max_reference    = std::max(max_reference, std::abs(ref));
+        }
     }
   };
 
@@ -97,15 +118,9 @@ TEST(MovingWall, BinghamCouettePoiseuilleProfile)
       // the material's force on the wall y = 1 (length 1), -sigma n with sigma_xy(1) = tau0 - 1
       // (measured 1e-13 and 9e-6 off)
       EXPECT_NEAR(summary["boundary_force"][0].get<double>(), 1. - reference.tau0, 1e-4) << Bi;
-      const auto csv =
-          granflow::test::read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
-      double max_err = 0., max_ref = 0.;
-      for (std::size_t k = 0; k < csv[0].size(); ++k)
-        {
-          const double ref = reference.velocity(csv[0][k]);
-          max_err          = std::max(max_err, std::abs(csv[1][k] - ref));
-          max_ref          = std::max(max_ref, std::abs(ref));
-        }
+      const ProfileComparison profile(summary, reference);
+      const auto             &csv     = profile.csv;
+      const double            max_err = profile.max_error, max_ref = profile.max_reference;
       RecordProperty(name, std::to_string(max_err / max_ref));
       EXPECT_LE(max_err / max_ref, 1e-3) << "Bi = " << Bi << ", tau0 = " << reference.tau0;
       // the profile's ends are 2e-9 inside the walls
@@ -199,15 +214,8 @@ TEST(ExternalStress, ShearLoadedLayerYieldsAtBiPlusMuP)
       ASSERT_TRUE(summary["solver"]["converged"].get<bool>()) << name;
       // global equilibrium: checks how the load is assembled, not the rheology
       EXPECT_NEAR(summary["boundary_force"][0].get<double>(), load.s + 2., 1e-9) << name;
-      const auto csv =
-          granflow::test::read_csv(summary["dir"].get<std::string>() + "/profiles/velocity.csv");
-      double max_err = 0., max_ref = 0.;
-      for (std::size_t k = 0; k < csv[0].size(); ++k)
-        {
-          const double ref = reference.velocity(csv[0][k]);
-          max_err          = std::max(max_err, std::abs(csv[1][k] - ref));
-          max_ref          = std::max(max_ref, std::abs(ref));
-        }
+      const ProfileComparison profile(summary, reference);
+      const double            max_err = profile.max_error, max_ref = profile.max_reference;
       RecordProperty(name, std::to_string(max_err));
       if (max_ref == 0.) // at rest: measured 8.6e-7, where the yield stress Bi alone gives 2
         EXPECT_LE(max_err, 1e-5) << name;
