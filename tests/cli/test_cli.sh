@@ -367,7 +367,7 @@ check not-converged 3 "written to" "$GRANFLOW" run "$case_file" --output nc --qu
 if [ -s nc/summary.json ]; then pass "not-converged keeps summary";
 else fail "not-converged summary missing"; fi
 # The Bagnold viscosity loop that runs out of iterations: exit 3, and summary.json says the run did
-# not converge (it said converged: true, with the loop's last relative change of u at 0.88).
+# not converge (it said converged: true, with the loop's last relative change, then of u, at 0.88).
 check viscosity-not-converged 3 "raise Solver/Viscosity iterations" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output visc --quiet --set "Solver/Viscosity iterations=2"
 if grep -q '"converged": false' visc/summary.json &&

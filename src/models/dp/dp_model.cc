@@ -145,10 +145,12 @@ namespace granflow::dp
       solve_cone_problem();
       std::vector<double>
       viscosity_from_velocity() const;
-      /// ||D(u) - D(u_old)|| / ||D(u)|| (L2 over the domain): the Bagnold loop's change, blind to
-      /// rigid motions, which a moving boundary's u_D adds to u.
+      /// ||eta(u) - eta(u_old)|| / ||eta(u)|| (L2 over the domain) with eta = bagnold_viscosity(D):
+      /// the Bagnold loop's change. It is blind to rigid motions, which a moving boundary's u_D
+      /// adds to u, and to strain rates below the viscosity floor (a rigid zone's solver noise),
+      /// which do not change eta.
       double
-      strain_rate_change(const Vector<double> &u_old) const;
+      viscosity_change(const Vector<double> &u_old) const;
       /// Daviet 6.1.3: eta = |D(u)|, bounded below by the viscosity floor.
       double
       bagnold_viscosity(const SymmetricTensor<2, dim> &D) const
@@ -1120,7 +1122,7 @@ namespace granflow::dp
         if (p_ext < 0.)
           warn("External pressure", id, -p_ext, "a negative pressure");
       for (const auto &[id, sigma] : external_stresses)
-        if (const double pull = largest_pull(id, sigma); pull > 0.)
+        if (const double pull = largest_pull(id, sigma); pull > 1e-12 * sigma.norm())
           warn("External stress", id, pull,
                "sigma_ext has tension positive, a pressure p is (-p, 0, -p)");
     }
@@ -1282,7 +1284,7 @@ namespace granflow::dp
     }
 
     double
-    Problem::strain_rate_change(const Vector<double> &u_old) const
+    Problem::viscosity_change(const Vector<double> &u_old) const
     {
       FEValues<dim> fv(mapping, fe_u, quadrature, update_gradients | update_JxW_values);
       const FEValuesExtractors::Vector     velocity(0);
@@ -1295,14 +1297,12 @@ namespace granflow::dp
           fv[velocity].get_function_symmetric_gradients(u_old, D_old);
           for (unsigned int q = 0; q < quadrature.size(); ++q)
             {
-              {
-                const SymmetricTensor<2, dim> d = D[q] - D_old[q];
-                change += d * d * fv.JxW(q);
-              }
-              size += D[q] * D[q] * fv.JxW(q);
+              const double eta = bagnold_viscosity(D[q]), eta_old = bagnold_viscosity(D_old[q]);
+              change += (eta - eta_old) * (eta - eta_old) * fv.JxW(q);
+              size += eta * eta * fv.JxW(q);
             }
         }
-      return std::sqrt(change / std::max(size, 1e-300));
+      return std::sqrt(change / size); // eta >= the viscosity floor > 0
     }
 
     Results
@@ -1332,7 +1332,8 @@ namespace granflow::dp
       const bool          interior_point =
           solvers::parse_cone_method(prm.solver.method) == solvers::ConeMethod::interior_point;
       unsigned int        viscosity_iterations = 0;
-      double              change               = 0.;
+      // not measured (null in summary.json) until a second Bagnold solve
+      double                   change = std::numeric_limits<double>::quiet_NaN();
       solvers::ConeSolverStats stats;
       unsigned int outer_total = 0, inner_total = 0;
       double       solve_time = 0., factorize_time = 0.;
@@ -1363,8 +1364,8 @@ namespace granflow::dp
                                                        : " (not converged)\n"));
               break;
             }
-          change = strain_rate_change(u_old);
-          s << ", viscosity fixed point: relative change of D(u) " << change;
+          change = viscosity_change(u_old);
+          s << ", viscosity fixed point: relative change of eta = |D(u)| " << change;
           log.print(s.str() + "\n");
           log.progress("viscosity iteration " + std::to_string(viscosity_iterations));
           if (change <= prm.solver.viscosity_tolerance ||
@@ -1380,7 +1381,8 @@ namespace granflow::dp
 
       // The Bagnold viscosity loop ends on its tolerance or its iteration limit; the run has
       // converged only if both it and the last cone problem have.
-      const bool viscosity_converged = !bagnold || change <= prm.solver.viscosity_tolerance;
+      const bool viscosity_converged =
+          !bagnold || change <= prm.solver.viscosity_tolerance; // NaN: false
 
       solver_json = {{"method", prm.solver.method},
                      {"residual_kind",
@@ -1411,8 +1413,8 @@ namespace granflow::dp
         {
           std::ostringstream w;
           w << std::setprecision(3) << "the viscosity fixed point did not converge in "
-            << viscosity_iterations << " iterations (last relative change of D(u) " << change
-            << ", tolerance " << prm.solver.viscosity_tolerance
+            << viscosity_iterations << " iterations (last relative change of eta = |D(u)| "
+            << change << ", tolerance " << prm.solver.viscosity_tolerance
             << "): every result here is that of its last iterate, not of a solution";
           report.warn(w.str());
         }
