@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -522,10 +523,23 @@ namespace granflow::geometry
     std::string names;
     for (const auto &[known, id] : boundary_ids)
       names += (names.empty() ? "'" : ", '") + known + "'";
+    // A case file's lists separate items with ',', a name from its value with ':' and a tuple with
+    // '(', and trim spaces: a mesh name with one of these cannot be written there.
+    std::string unwritable;
+    for (const auto &[known, id] : boundary_ids)
+      if (known.find_first_of(",:(") != std::string::npos || known.empty() ||
+          std::isspace(static_cast<unsigned char>(known.front())) ||
+          std::isspace(static_cast<unsigned char>(known.back())))
+        unwritable += (unwritable.empty() ? "'" : ", '") + known + "'";
     const auto        note = absent_boundary_notes.find(name);
-    const std::string what = "the mesh has no boundary named '" + name + "': its boundaries are " +
-                             (names.empty() ? "(none)" : names) +
-                             (note != absent_boundary_notes.end() ? " (" + note->second + ")" : "");
+    const std::string what =
+        "the mesh has no boundary named '" + name + "': its boundaries are " +
+        (names.empty() ? "(none)" : names) +
+        (note != absent_boundary_notes.end() ? " (" + note->second + ")" : "") +
+        (unwritable.empty() ? ""
+                            : "; " + unwritable +
+                                  " cannot be named in a case file, whose lists use ',', ':' and "
+                                  "'(' as separators and trim spaces: rename the physical curve");
     if (entry.empty())
       throw InputError(context_file + ": " + what);
     throw InputError(context_file, entry, what);

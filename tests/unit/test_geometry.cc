@@ -645,4 +645,20 @@ namespace
       input_error([&] { mesh.id("wall", "cases/silo.prm"); }),
       {"cases/silo.prm", "'wall'", "'bed'", "'downstream'", "'surface'", "'upstream'"});
   }
+
+  // A user's mesh may name a boundary with a character the case file's lists use as a separator
+  // (README, "Your own mesh"): the error for the name the user tried says which names cannot be
+  // written, and why.
+  TEST_F(Geometry, UnknownBoundaryNameSaysWhichMeshNamesCannotBeWritten)
+  {
+    Mesh mesh;
+    mesh.boundary_ids = {{"inlet", 1}, {"wall (left)", 2}, {"a,b", 3}, {"top:1", 4}, {" bed", 5}};
+    expect_contains(input_error([&] { mesh.id("wall", "cases/mine.prm", "No-slip"); }),
+                    {"cases/mine.prm", "No-slip", "'wall'",
+                     "' bed', 'a,b', 'top:1', 'wall (left)' cannot be named",
+                     "rename the physical curve"});
+    mesh.boundary_ids = {{"inlet", 1}, {"outlet", 2}};
+    EXPECT_EQ(input_error([&] { mesh.id("wall", "cases/mine.prm"); }).find("cannot be named"),
+              std::string::npos);
+  }
 } // namespace

@@ -132,9 +132,9 @@ namespace granflow::dp
       std::string
       where_in_mesh(const CellList &piece) const;
       void
-      require_no_free_rigid_motion() const;
+      require_no_free_rigid_motion(const std::vector<CellList> &pieces) const;
       void
-      require_no_net_inflow_into_a_closed_domain() const;
+      require_no_net_inflow_into_a_closed_domain(const std::vector<CellList> &pieces) const;
       void
       assemble_velocity_operator(const std::vector<double> &eta);
       void
@@ -468,12 +468,12 @@ namespace granflow::dp
     /// (0, 1, x) for a y-dof (coordinates centred and scaled on the piece): their Gram matrix must
     /// be regular.
     void
-    Problem::require_no_free_rigid_motion() const
+    Problem::require_no_free_rigid_motion(const std::vector<CellList> &pieces) const
     {
       std::map<types::global_dof_index, Point<dim>> support;
       DoFTools::map_dofs_to_support_points(mapping, dof_u, support);
       std::vector<types::global_dof_index> dofs(fe_u.n_dofs_per_cell());
-      for (const CellList &cells : mesh_pieces())
+      for (const CellList &cells : pieces)
         {
           const Point<dim> centre = centre_of(cells);
           double           size   = 0.;
@@ -539,7 +539,7 @@ namespace granflow::dp
     /// only say that they did not converge. The flux is that of the interpolated u_D, the one
     /// the discrete problem sees. Each piece of the mesh is a domain of its own.
     void
-    Problem::require_no_net_inflow_into_a_closed_domain() const
+    Problem::require_no_net_inflow_into_a_closed_domain(const std::vector<CellList> &pieces) const
     {
       if (prm.boundaries.velocity.empty())
         return;
@@ -586,7 +586,7 @@ namespace granflow::dp
               }
         return std::make_pair(net, gross);
       };
-      for (const CellList &piece : mesh_pieces())
+      for (const CellList &piece : pieces)
         if (const auto flux = closed_flux(piece); flux && flux->first < -1e-9 * flux->second)
           {
             std::ostringstream what;
@@ -1018,8 +1018,9 @@ namespace granflow::dp
       for (const auto &[name, value] : velocities)
         add(name, "Boundary conditions/Velocity", ComponentMask(), value);
       constrain_directions();
-      require_no_free_rigid_motion(); // also where there is no velocity condition at all
-      require_no_net_inflow_into_a_closed_domain();
+      const std::vector<CellList> pieces = mesh_pieces();
+      require_no_free_rigid_motion(pieces); // also where there is no velocity condition at all
+      require_no_net_inflow_into_a_closed_domain(pieces);
 
       // Every named boundary of the load must exist too (checked before anything is solved).
       for (const auto &[name, p] :
