@@ -7,6 +7,7 @@
 #include "models/ngf/ngf_element.h"
 #include "postprocess/nonlocal_1d.h"
 #include "solvers/newton.h"
+#include "solvers/umfpack_solver.h"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/work_stream.h>
@@ -22,7 +23,6 @@
 #include <deal.II/grid/tria.h>
 #include <deal.II/lac/affine_constraints.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
-#include <deal.II/lac/sparse_direct.h>
 #include <deal.II/lac/sparse_matrix.h>
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
@@ -123,6 +123,13 @@ namespace granflow::ngf
       make_mesh();
       void
       setup_system();
+      /// jacobian_csr's pattern (the sorted columns of `jacobian`'s) and csr_position.
+      void
+      index_jacobian_csr();
+      /// dU = -J^-1 residual with the factorisation of the current Jacobian if `factorize`, else
+      /// with the last one; false if the Jacobian is singular.
+      bool
+      solve_with_jacobian(Vector<double> &dU, bool factorize);
       /// Periodicity, the Dirichlet conditions of the geometry at wall displacement `u_wall` (an
       /// arc length for the annulus) and the fluidity Dirichlet values; `homogeneous` gives the
       /// constraints of the Newton corrections.
@@ -340,7 +347,12 @@ namespace granflow::ngf
       // net fluidity that the boundary conditions feed into the body (negative: they take it
       // out; (23) has no time derivative).
       double                                        boundary_fluidity_supply = 0.;
-      SparseDirectUMFPACK       factorization; // of the last Jacobian
+      // The last factorised Jacobian: copied into CSR with sorted columns (UMFPACK's order) through
+      // csr_position, so that the symbolic analysis, which depends on the pattern alone, is done
+      // once per run rather than at every factorisation (deal.II's SparseDirectUMFPACK redoes it).
+      solvers::CsrMatrix        jacobian_csr;
+      std::vector<unsigned int> csr_position; // of each entry of `jacobian`, in its storage order
+      solvers::UmfpackSolver    factorization;
       solvers::NewtonSolver<Vector<double>>         newton_solver;
       std::vector<Point<dim>>   dof_point; // reference position of each dof
       std::optional<postprocess::Nonlocal1dProfile> reference; // Output/Reference
@@ -428,6 +440,70 @@ namespace granflow::ngf
 
     template <int dim>
     void
+    Problem<dim>::index_jacobian_csr()
+    {
+      const std::size_t n = jacobian.m();
+      jacobian_csr        = solvers::CsrMatrix();
+      jacobian_csr.n_rows = jacobian_csr.n_cols = n;
+      jacobian_csr.row_start.assign(1, 0);
+      jacobian_csr.column.reserve(jacobian.n_nonzero_elements());
+      csr_position.assign(jacobian.n_nonzero_elements(), 0);
+      std::vector<std::pair<unsigned int, unsigned int>> row; // (column, storage index)
+      unsigned int                                       k = 0;
+      for (std::size_t i = 0; i < n; ++i)
+        {
+          row.clear();
+          for (auto entry = jacobian.begin(i); entry != jacobian.end(i); ++entry)
+            row.emplace_back(entry->column(), k++);
+          std::sort(row.begin(), row.end());
+          for (const auto &[column, index] : row)
+            {
+              csr_position[index] = jacobian_csr.column.size();
+              jacobian_csr.column.push_back(static_cast<int>(column));
+            }
+          jacobian_csr.row_start.push_back(static_cast<int>(jacobian_csr.column.size()));
+        }
+      jacobian_csr.value.assign(jacobian_csr.column.size(), 0.);
+      // Newton corrects an inexact step by itself (it also steps with an old Jacobian): UMFPACK's
+      // iterative refinement, 2 steps by default, cost 30 % of the linear solves on the annulus
+      // with gravity and changed no iterate (docs/ngf.md, "Performance").
+      factorization.set_refinement_steps(0);
+    }
+
+    template <int dim>
+    bool
+    Problem<dim>::solve_with_jacobian(Vector<double> &dU, const bool factorize)
+    {
+      const auto start = std::chrono::steady_clock::now();
+      try
+        {
+          if (factorize)
+            {
+              unsigned int k = 0;
+              for (std::size_t i = 0; i < jacobian.m(); ++i)
+                for (auto entry = jacobian.begin(i); entry != jacobian.end(i); ++entry)
+                  jacobian_csr.value[csr_position[k++]] = entry->value();
+              factorization.factorize(jacobian_csr);
+            }
+          const std::vector<double> b(residual.begin(), residual.end());
+          std::vector<double>       x;
+          factorization.solve(x, b);
+          dU.reinit(x.size(), true);
+          std::copy(x.begin(), x.end(), dU.begin());
+        }
+      catch (const std::runtime_error &)
+        {
+          return false; // singular (UmfpackSolver's errors)
+        }
+      solve_seconds +=
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      dU *= -1.;
+      newton_constraints.distribute(dU);
+      return true;
+    }
+
+    template <int dim>
+    void
     Problem<dim>::setup_system()
     {
       dof_handler.distribute_dofs(fe);
@@ -455,6 +531,7 @@ namespace granflow::ngf
       DoFTools::make_sparsity_pattern(dof_handler, dsp, newton_constraints, false);
       sparsity.copy_from(dsp);
       jacobian.reinit(sparsity);
+      index_jacobian_csr();
       for (auto *v : {&U, &U_n, &residual, &unconstrained_residual})
         v->reinit(dof_handler.n_dofs());
 
@@ -842,23 +919,7 @@ namespace granflow::ngf
       bool
       correction(Vector<double> &dU, const bool factorize) override
       {
-        const auto start = std::chrono::steady_clock::now();
-        try
-          {
-            if (factorize)
-              p.factorization.initialize(p.jacobian);
-            dU = p.residual;
-            p.factorization.solve(dU);
-          }
-        catch (const dealii::SparseDirectUMFPACK::ExcUMFPACKError &)
-          {
-            return false;
-          }
-        p.solve_seconds +=
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        dU *= -1.;
-        p.newton_constraints.distribute(dU);
-        return true;
+        return p.solve_with_jacobian(dU, factorize);
       }
 
       std::vector<solvers::CorrectionSize>
