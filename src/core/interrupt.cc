@@ -62,6 +62,10 @@ namespace granflow::interrupt
   {
     std::signal(SIGINT, handle);
     std::signal(SIGTERM, handle);
+    // A reader that closes its end of standard output (`granflow run ... | head -1`) must not
+    // end the run unannounced, with DIR left staged: the writes to the pipe then fail instead
+    // (the output to it is lost, log.txt has it), and the run goes on to write DIR.
+    std::signal(SIGPIPE, SIG_IGN);
   }
 
   bool

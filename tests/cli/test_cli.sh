@@ -429,6 +429,16 @@ interrupted ngf-sigterm TERM 143 int_ngf "$GRANFLOW" run "$SOURCE_DIR/cases/hena
 if grep -q "not steady: the run stopped at" int_ngf/summary.json; then pass "ngf interrupted run warns not steady";
 else fail "ngf interrupted run warns not steady"; fi
 
+# A reader that closes the pipe early (`| head -1`) does not kill the run (SIGPIPE, exit 141, DIR
+# left staged): the run goes on and writes DIR, exit 0. The case prints progress for seconds.
+"$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/cylinder.prm" --output piped 2>&1 | head -1 >/dev/null
+piped_status=${PIPESTATUS[0]}
+if [ "$piped_status" -eq 0 ] && [ -s piped/summary.json ] && [ ! -e .piped.staging ]; then
+  pass "run-piped-into-head"
+else
+  fail "run-piped-into-head" "exit $piped_status (expected 0)"; ls -a
+fi
+
 # ngf (Henann & Kamrin 2016): bad material values and fluidity boundaries (issue #3 h).
 ngf_case="$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm"
 check ngf-print-parameters 0 "set mu_s" "$GRANFLOW" print-parameters ngf
