@@ -203,6 +203,17 @@ bad gravity-empty-item "'1,,0' is not a point" --set "Gravity direction=1,,0"
 bad gravity-trailing-text "'1abc, 0' is not a point" --set "Gravity direction=1abc, 0"
 bad external-pressure-not-finite "finite number" --set "Boundary conditions/External pressure=inlet: inf"
 bad profile-off-the-mesh "Output/Profile start" --set "Output/Profile start=100, 100" --set "Output/Profile end=101, 100"
+bad profile-one-end-only "is set while Output/Profile start is empty: expected both points of the line, or neither" \
+  --set "Output/Profile start=" --set "Output/Profile end=0, 1"
+# Without Profile start and end a case samples the vertical line through the middle of its mesh's
+# bounding box (a case for the silo, the cylinder or a user mesh no longer has to set them).
+sed -e '/Profile start/d' -e '/Profile end/d' "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" >silo_noline.prm
+check profile-default-line 0 "Results in silo_noline" "$GRANFLOW" run silo_noline.prm --output silo_noline --quiet \
+  --set "Solver/Tolerance=1e-3" --set "Output/Write vtu=false"
+if /usr/bin/python3 -c "import json,sys; l=json.load(open('silo_noline/summary.json'))['profile_line']; sys.exit(0 if l == {'start': [4.0, -1.0], 'end': [4.0, 8.0]} else 1)" 2>/dev/null &&
+  [ "$(head -1 silo_noline/profiles/velocity.csv | cut -d, -f1)" = y ]; then
+  pass "profile-default-line-is-the-middle-vertical"
+else fail "profile-default-line-is-the-middle-vertical"; grep -A8 profile_line silo_noline/summary.json; fi
 # Named as the whole subsection, whose entries can each fix the motion (naming No-slip confused a
 # user whose No-slip was empty).
 bad rigid-motion-free "entry 'Boundary conditions': with its velocity conditions (No-slip, Zero x-velocity" \

@@ -175,6 +175,10 @@ namespace granflow::dp
       warn_about_zones(const PointFields &pf);
       void
       write_velocity_profile(nlohmann::json &S, const PointFields &pf);
+      /// The ends of the profile line: Output/Profile start and end, or, both empty, the vertical
+      /// line through the middle of the mesh's bounding box.
+      std::pair<Point<dim>, Point<dim>>
+      profile_line() const;
       std::map<types::boundary_id, postprocess::BoundaryFlux>
       summarise_fluxes(nlohmann::json &S) const;
       /// Output/Inflow boundary's mean speed U_infinity (positive into the domain), its mean u_x,
@@ -937,17 +941,21 @@ namespace granflow::dp
       n_points = p1d ? mesh.triangulation.n_active_cells() * 3 : dof_s.n_dofs();
       u.reinit(dof_u.n_dofs());
       // The profile line must cross the domain: checked now, not after the solve.
-      if (postprocess::sample_line(
-              mapping, dof_u, u,
-              parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start"),
-              parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end"),
-              prm.output.profile_points)
+      if (const auto [a, b] = profile_line();
+          postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points)
               .points.size() < 2)
-        throw InputError(prm.case_file, "Output/Profile start",
-                         "'" + prm.output.profile_start + "' to Output/Profile end '" +
-                             prm.output.profile_end + "': fewer than 2 of the line's " +
-                             std::to_string(prm.output.profile_points) +
-                             " points lie in the mesh: expected a line across the domain");
+        {
+          std::ostringstream line;
+          line << "(" << a[0] << ", " << a[1] << ") to (" << b[0] << ", " << b[1] << ")";
+          throw InputError(prm.case_file, "Output/Profile start",
+                           (prm.output.profile_start.empty()
+                                ? "is empty, and the mesh's vertical middle line " + line.str()
+                                : "'" + prm.output.profile_start + "' to Output/Profile end '" +
+                                      prm.output.profile_end + "'") +
+                               ": fewer than 2 of the line's " +
+                               std::to_string(prm.output.profile_points) +
+                               " points lie in the mesh: expected a line across the domain");
+        }
 
       std::ostringstream s;
       s << "Mesh: " << mesh.triangulation.n_active_cells() << " triangles, "
@@ -1683,6 +1691,19 @@ namespace granflow::dp
         }
     }
 
+    std::pair<Point<dim>, Point<dim>>
+    Problem::profile_line() const
+    {
+      if (!prm.output.profile_start.empty())
+        return {parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start"),
+                parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end")};
+      const auto   box = GridTools::compute_bounding_box(mesh.triangulation);
+      const double x_mid =
+          (box.get_boundary_points().first[0] + box.get_boundary_points().second[0]) / 2.;
+      return {Point<dim>(x_mid, box.get_boundary_points().first[1]),
+              Point<dim>(x_mid, box.get_boundary_points().second[1])};
+    }
+
     /// profiles/velocity.csv along the case's line, and the errors against the analytic reference.
     void
     Problem::write_velocity_profile(nlohmann::json &S, const PointFields &pf)
@@ -1691,8 +1712,8 @@ namespace granflow::dp
       const double               max_D0    = pf.max_D0;
       const double               threshold = pf.threshold;
       // Profile along the line of the case file.
-      const Point<dim> a = parse_point(prm.output.profile_start, prm.case_file, "Output/Profile start");
-      const Point<dim> b = parse_point(prm.output.profile_end, prm.case_file, "Output/Profile end");
+      const auto [a, b]  = profile_line();
+      S["profile_line"]  = {{"start", {a[0], a[1]}}, {"end", {b[0], b[1]}}};
       const auto samples = postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points);
       // First column: the coordinate that varies along the line (y for a vertical line).
       const unsigned int axis = std::abs(b[1] - a[1]) >= std::abs(b[0] - a[0]) ? 1 : 0;

@@ -216,8 +216,13 @@ namespace granflow::dp
                         "Analytic reference compared with the profile: none, bingham poiseuille "
                         "(6.1.1), bagnold (6.1.3).",
                         Selection("none|bingham poiseuille|bagnold"));
-      prm.add_parameter("Profile start", o.profile_start, "Start 'x, y' of the sampled line.", Anything());
-      prm.add_parameter("Profile end", o.profile_end, "End 'x, y' of the sampled line.", Anything());
+      prm.add_parameter("Profile start", o.profile_start,
+                        "Start 'x, y' of the line profiles/velocity.csv samples; empty, with "
+                        "Profile end empty too: the vertical line through the middle of the "
+                        "mesh's bounding box, from its bottom to its top.",
+                        Anything());
+      prm.add_parameter("Profile end", o.profile_end,
+                        "End 'x, y' of the sampled line; empty: see Profile start.", Anything());
       prm.add_parameter(
           "Profile points", o.profile_points,
           "Samples along the line, in [2, 100000]; those outside the mesh are left out.",
@@ -321,8 +326,18 @@ namespace granflow::dp
                                     : std::string("here gravity does not point into the bed")) +
                                ")");
       }
-    parse_point(output.profile_start, f, "Output/Profile start");
-    parse_point(output.profile_end, f, "Output/Profile end");
+    if (output.profile_start.empty() != output.profile_end.empty())
+      throw InputError(f,
+                       output.profile_start.empty() ? "Output/Profile end" : "Output/Profile start",
+                       "is set while Output/Profile " +
+                           std::string(output.profile_start.empty() ? "start" : "end") +
+                           " is empty: expected both points of the line, or neither (the mesh's "
+                           "vertical middle line)");
+    if (!output.profile_start.empty())
+      {
+        parse_point(output.profile_start, f, "Output/Profile start");
+        parse_point(output.profile_end, f, "Output/Profile end");
+      }
   }
 
   void

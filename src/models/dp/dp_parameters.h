@@ -85,8 +85,8 @@ namespace granflow::dp
   struct OutputParameters
   {
     std::string  reference      = "none"; // none | bingham poiseuille | bagnold | cylinder
-    std::string  profile_start  = "-0.5, -1";
-    std::string  profile_end    = "-0.5, 1";
+    std::string  profile_start   = "";     // "x, y"; both empty: the mesh's vertical middle line
+    std::string  profile_end     = "";
     unsigned int profile_points = 101;
     std::string  drag_boundary  = "";   // boundary on which F_D = int lambda n . e_x is reported
     std::string  inflow_boundary = "";  // boundary whose mean normal velocity is U_infinity
