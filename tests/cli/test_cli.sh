@@ -47,6 +47,22 @@ if [ ! -e out/solution.pvd ] && [ ! -e out/solution-0000.vtu ] && [ -s out/summa
   pass "rerun replaces the earlier run's files"
 else fail "rerun left stale solution files or removed a user's file"; ls out; fi
 
+# The README's own-case example (a wedge hopper drawn in Gmsh) runs as the README says: its .geo
+# and .prm blocks, meshed with the gmsh command, converge with exit 0.
+mkdir -p readme_hopper
+/usr/bin/python3 - "$SOURCE_DIR/README.md" <<'PY'
+import sys
+text = open(sys.argv[1]).read()
+blocks = text[text.index("### Your own case"):].split("```")
+open("readme_hopper/hopper.geo", "w").write(blocks[1].lstrip("\n"))
+open("readme_hopper/hopper.prm", "w").write(blocks[3].lstrip("\n"))
+PY
+gmsh -2 readme_hopper/hopper.geo -format msh41 -o readme_hopper/hopper.msh >/dev/null 2>&1 ||
+  fail "readme-hopper-meshes"
+check readme-hopper-example 0 "Results in hopper_out" "$GRANFLOW" run readme_hopper/hopper.prm --output hopper_out --quiet
+if grep -q '"converged": true' hopper_out/summary.json; then pass "readme-hopper-converges";
+else fail "readme-hopper-converges"; grep residual hopper_out/summary.json; fi
+
 # A user mesh named in a case file is found beside the case file, wherever granflow runs; one
 # given with --set is relative to the current directory. (The mesh is the one the run above wrote.)
 mkdir -p mycase && cp out/mesh.msh mycase/channel.msh
