@@ -527,7 +527,7 @@ namespace granflow::geometry
     // '(', and trim spaces: a mesh name with one of these cannot be written there.
     std::string unwritable;
     for (const auto &[known, id] : boundary_ids)
-      if (known.find_first_of(",:(") != std::string::npos || known.empty() ||
+      if (known.find_first_of(",:(#\t") != std::string::npos ||
           std::isspace(static_cast<unsigned char>(known.front())) ||
           std::isspace(static_cast<unsigned char>(known.back())))
         unwritable += (unwritable.empty() ? "'" : ", '") + known + "'";
@@ -538,8 +538,10 @@ namespace granflow::geometry
         (note != absent_boundary_notes.end() ? " (" + note->second + ")" : "") +
         (unwritable.empty() ? ""
                             : "; " + unwritable +
-                                  " cannot be named in a case file, whose lists use ',', ':' and "
-                                  "'(' as separators and trim spaces: rename the physical curve");
+                                  " cannot be named in every entry of a case file (its lists "
+                                  "split at ',', a value follows ':', a tuple starts at '(', '#' "
+                                  "starts a comment, tabs become spaces and spaces at the ends "
+                                  "are trimmed): rename the physical curve");
     if (entry.empty())
       throw InputError(context_file + ": " + what);
     throw InputError(context_file, entry, what);

@@ -1,6 +1,7 @@
 // Sparse LU factorisation of a square, generally unsymmetric matrix through UMFPACK (SuiteSparse).
-// Used by the interior-point method of the cone problem, whose Newton matrix has a fixed pattern:
-// the symbolic analysis is done once and each factorize() only redoes the numeric factorisation.
+// Used by the interior-point method of the cone problem and by ngf's Newton steps, whose matrices
+// keep a fixed pattern: the symbolic analysis is done once and each factorize() only redoes the
+// numeric factorisation.
 #pragma once
 
 #include "solvers/sparse.h"

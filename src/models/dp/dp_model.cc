@@ -39,6 +39,7 @@
 #include <set>
 #include <sstream>
 #include <tuple>
+#include <utility>
 
 namespace granflow::dp
 {
@@ -281,6 +282,7 @@ namespace granflow::dp
       Vector<double>           u;             // all velocity dofs
       std::vector<std::string> traction_free; // named boundaries with no condition
       RunReport                report{log, out, "dp"}; // after log and out, which it refers to
+      bool write_profile = true; // false where the default profile line misses the mesh
       nlohmann::json           solver_json;
       std::optional<interrupt::BeforeResults> before_results; // see run()
     };
@@ -940,21 +942,30 @@ namespace granflow::dp
       number_free_dofs();
       n_points = p1d ? mesh.triangulation.n_active_cells() * 3 : dof_s.n_dofs();
       u.reinit(dof_u.n_dofs());
-      // The profile line must cross the domain: checked now, not after the solve.
+      // The profile line must cross the domain: checked now, not after the solve. The default line
+      // (the mesh's vertical middle line, which a U-shaped mesh or one with a hole may miss) is
+      // not refused, only left out with a warning: the user did not ask for it.
       if (const auto [a, b] = profile_line();
           postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points)
               .points.size() < 2)
         {
-          std::ostringstream line;
-          line << "(" << a[0] << ", " << a[1] << ") to (" << b[0] << ", " << b[1] << ")";
-          throw InputError(prm.case_file, "Output/Profile start",
-                           (prm.output.profile_start.empty()
-                                ? "is empty, and the mesh's vertical middle line " + line.str()
-                                : "'" + prm.output.profile_start + "' to Output/Profile end '" +
-                                      prm.output.profile_end + "'") +
-                               ": fewer than 2 of the line's " +
-                               std::to_string(prm.output.profile_points) +
-                               " points lie in the mesh: expected a line across the domain");
+          if (prm.output.profile_start.empty())
+            {
+              std::ostringstream w;
+              w << "no profiles/velocity.csv: the mesh's vertical middle line, (" << a[0] << ", "
+                << a[1] << ") to (" << b[0] << ", " << b[1] << "), has fewer than 2 of its "
+                << prm.output.profile_points
+                << " points in the mesh; set Output/Profile start and end to a line across the "
+                   "domain";
+              report.warn(w.str());
+              write_profile = false;
+            }
+          else
+            throw InputError(prm.case_file, "Output/Profile start",
+                             "'" + prm.output.profile_start + "' to Output/Profile end '" +
+                                 prm.output.profile_end + "': fewer than 2 of the line's " +
+                                 std::to_string(prm.output.profile_points) +
+                                 " points lie in the mesh: expected a line across the domain");
         }
 
       std::ostringstream s;
@@ -1711,7 +1722,8 @@ namespace granflow::dp
       const std::vector<double> &D0_norm   = pf.D0_norm;
       const double               max_D0    = pf.max_D0;
       const double               threshold = pf.threshold;
-      // Profile along the line of the case file.
+      if (!write_profile)
+        return;
       const auto [a, b]  = profile_line();
       S["profile_line"]  = {{"start", {a[0], a[1]}}, {"end", {b[0], b[1]}}};
       const auto samples = postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points);

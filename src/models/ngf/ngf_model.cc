@@ -37,6 +37,8 @@
 #include <map>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
+#include <vector>
 
 namespace granflow::ngf
 {
@@ -347,9 +349,9 @@ namespace granflow::ngf
       // net fluidity that the boundary conditions feed into the body (negative: they take it
       // out; (23) has no time derivative).
       double                                        boundary_fluidity_supply = 0.;
-      // The last factorised Jacobian: copied into CSR with sorted columns (UMFPACK's order) through
-      // csr_position, so that the symbolic analysis, which depends on the pattern alone, is done
-      // once per run rather than at every factorisation (deal.II's SparseDirectUMFPACK redoes it).
+      // The last factorised Jacobian, copied into CSR with sorted columns (UMFPACK's order) through
+      // csr_position, and factorised without UMFPACK's iterative refinement (setup_system()); the
+      // symbolic analysis, of the first Jacobian, is kept for the run.
       solvers::CsrMatrix        jacobian_csr;
       std::vector<unsigned int> csr_position; // of each entry of `jacobian`, in its storage order
       solvers::UmfpackSolver    factorization;
@@ -464,10 +466,6 @@ namespace granflow::ngf
           jacobian_csr.row_start.push_back(static_cast<int>(jacobian_csr.column.size()));
         }
       jacobian_csr.value.assign(jacobian_csr.column.size(), 0.);
-      // Newton corrects an inexact step by itself (it also steps with an old Jacobian): UMFPACK's
-      // iterative refinement, 2 steps by default, cost 30 % of the linear solves on the annulus
-      // with gravity and changed no iterate (docs/ngf.md, "Performance").
-      factorization.set_refinement_steps(0);
     }
 
     template <int dim>
@@ -531,7 +529,15 @@ namespace granflow::ngf
       DoFTools::make_sparsity_pattern(dof_handler, dsp, newton_constraints, false);
       sparsity.copy_from(dsp);
       jacobian.reinit(sparsity);
+      AssertThrow(sparsity.n_nonzero_elements() <
+                      static_cast<std::size_t>(std::numeric_limits<int>::max()),
+                  ExcMessage("ngf: the Jacobian has more nonzeros than UMFPACK's 32-bit indices "
+                             "address; use a coarser mesh (Geometry/Element size)"));
       index_jacobian_csr();
+      // Newton corrects an inexact step by itself (it also steps with an old Jacobian): UMFPACK's
+      // iterative refinement, 2 steps by default, cost 30 % of the linear solves on the annulus
+      // with gravity and changed no iterate (docs/ngf.md, "Newton: the driver").
+      factorization.set_refinement_steps(0);
       for (auto *v : {&U, &U_n, &residual, &unconstrained_residual})
         v->reinit(dof_handler.n_dofs());
 
@@ -1248,7 +1254,7 @@ namespace granflow::ngf
       // on the increment: mu_wall falls below its increment-converged value by about
       // rate x (increment / d), with the rate measured per geometry at the cases' parameters
       // (docs/ngf.md, "Increment size"): 10 % in the shear column (-0.08 % at the default
-      // 0.01 d, -2.3 % at 0.2 d), 5 to 8 % in the annulus row (R_i = 100 d to 20 d), 3 % in the
+      // 0.01 d, -2.3 % at 0.2 d), 8 to 5 % in the annulus row (R_i = 20 d to 100 d), 3 % in the
       // annulus with gravity. Steadiness cannot see that bias, so large increments are named.
       if (s.failure.empty() && s.last_step > 0.025 * d)
         {
@@ -1257,8 +1263,9 @@ namespace granflow::ngf
           w << std::setprecision(3) << "the run ended on increments of " << s.last_step / d
             << " d of wall displacement: the implicit time integration then lowers the steady "
                "mu_wall by "
-            << (row ? "up to " : "about ") << rate_percent * s.last_step / d << " %"
-            << (row ? " (5 to 8 % x increment / d from R_i = 100 d to 20 d, docs/ngf.md)"
+            << "about " << rate_percent * s.last_step / d << " %"
+            << (row ? " at R_i = 20 d, less at larger radii (8 % x increment / d at 20 d, 5 % at "
+                      "100 d; docs/ngf.md)"
                     : " (docs/ngf.md)")
             << "; lower Solver/Max increment (default 0.01) for results to 0.1 %";
           report.warn(w.str());
