@@ -282,7 +282,8 @@ namespace granflow::dp
       Vector<double>           u;             // all velocity dofs
       std::vector<std::string> traction_free; // named boundaries with no condition
       RunReport                report{log, out, "dp"}; // after log and out, which it refers to
-      bool write_profile = true; // false where the default profile line misses the mesh
+      /// The ends of the profile line, set by setup(); none where the default line misses the mesh.
+      std::optional<std::pair<Point<dim>, Point<dim>>> profile;
       nlohmann::json           solver_json;
       std::optional<interrupt::BeforeResults> before_results; // see run()
     };
@@ -529,11 +530,12 @@ namespace granflow::dp
               what << std::setprecision(3) << "the velocity can still translate along ("
                    << component(m[0]) << ", " << component(m[1]) << ")";
             }
+          const std::string where = where_in_mesh(cells);
           // Named as the whole subsection: any of its velocity conditions can fix the motion.
           throw InputError(prm.case_file, "Boundary conditions",
                            "with its velocity conditions (" +
                                velocity_condition_entries(prm.boundaries) + ") " + what.str() +
-                               (where_in_mesh(cells).empty() ? "" : " on " + where_in_mesh(cells)) +
+                               (where.empty() ? "" : " on " + where) +
                                " (A is singular): expected velocity conditions that fix both "
                                "translations and the rotation of every part of the mesh");
         }
@@ -595,9 +597,10 @@ namespace granflow::dp
       for (const CellList &piece : pieces)
         if (const auto flux = closed_flux(piece); flux && flux->first < -1e-9 * flux->second)
           {
+            const std::string  where = where_in_mesh(piece);
             std::ostringstream what;
             what << std::setprecision(3) << "pushes a net volume flux of " << -flux->first
-                 << " into " << (where_in_mesh(piece).empty() ? "a domain" : where_in_mesh(piece))
+                 << " into " << (where.empty() ? "a domain" : where)
                  << " that the velocity conditions close on every side; the material "
                     "cannot be compressed (div u >= 0, Daviet (24)): expected velocities whose "
                     "outflow is at least their inflow, or a boundary left open (one with no "
@@ -945,8 +948,8 @@ namespace granflow::dp
       // The profile line must cross the domain: checked now, not after the solve. The default line
       // (the mesh's vertical middle line, which a U-shaped mesh or one with a hole may miss) is
       // not refused, only left out with a warning: the user did not ask for it.
-      if (const auto [a, b] = profile_line();
-          postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points)
+      const auto [a, b] = profile_line();
+      if (postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points)
               .points.size() < 2)
         {
           if (prm.output.profile_start.empty())
@@ -958,7 +961,6 @@ namespace granflow::dp
                 << " points in the mesh; set Output/Profile start and end to a line across the "
                    "domain";
               report.warn(w.str());
-              write_profile = false;
             }
           else
             throw InputError(prm.case_file, "Output/Profile start",
@@ -967,6 +969,8 @@ namespace granflow::dp
                                  std::to_string(prm.output.profile_points) +
                                  " points lie in the mesh: expected a line across the domain");
         }
+      else
+        profile.emplace(a, b);
 
       std::ostringstream s;
       s << "Mesh: " << mesh.triangulation.n_active_cells() << " triangles, "
@@ -1722,9 +1726,9 @@ namespace granflow::dp
       const std::vector<double> &D0_norm   = pf.D0_norm;
       const double               max_D0    = pf.max_D0;
       const double               threshold = pf.threshold;
-      if (!write_profile)
+      if (!profile)
         return;
-      const auto [a, b]  = profile_line();
+      const auto [a, b]  = *profile;
       S["profile_line"]  = {{"start", {a[0], a[1]}}, {"end", {b[0], b[1]}}};
       const auto samples = postprocess::sample_line(mapping, dof_u, u, a, b, prm.output.profile_points);
       // First column: the coordinate that varies along the line (y for a vertical line).

@@ -392,16 +392,36 @@ namespace granflow::dp
     return load_case<Parameters>(case_file, overrides);
   }
 
+  namespace
+  {
+    /// Exactly `count` comma-separated finite numbers ("1,,0" is not two: split_list would drop
+    /// the empty item); throws std::invalid_argument or parse_number's error otherwise.
+    std::vector<double>
+    parse_numbers(const std::string &text, const std::size_t count)
+    {
+      std::vector<double> values;
+      std::size_t         from = 0;
+      for (;;)
+        {
+          const std::size_t comma = text.find(',', from);
+          values.push_back(parse_number(text.substr(from, comma - from)));
+          if (comma == std::string::npos)
+            break;
+          from = comma + 1;
+        }
+      if (values.size() != count)
+        throw std::invalid_argument("");
+      return values;
+    }
+  } // namespace
+
   dealii::Point<2>
   parse_point(const std::string &text, const std::string &file, const std::string &entry)
   {
     try
       {
-        // exactly two numbers: "1,,0" is no point (split_list drops empty items)
-        const auto comma = text.find(',');
-        if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos)
-          throw std::invalid_argument("");
-        return {parse_number(text.substr(0, comma)), parse_number(text.substr(comma + 1))};
+        const std::vector<double> x = parse_numbers(text, 2);
+        return {x[0], x[1]};
       }
     catch (const std::exception &)
       {
@@ -426,22 +446,6 @@ namespace granflow::dp
                        "cannot read '" + trim(what) + "': expected 'boundary: " + tuple +
                            ", ...' (finite numbers)");
     };
-    // exactly components.size() numbers: "1,,0" is not two (split_list would drop the empty item)
-    const auto numbers = [&](const std::string &inside) {
-      std::vector<double> values;
-      std::size_t         from = 0;
-      for (;;)
-        {
-          const std::size_t comma = inside.find(',', from);
-          values.push_back(parse_number(inside.substr(from, comma - from)));
-          if (comma == std::string::npos)
-            break;
-          from = comma + 1;
-        }
-      if (values.size() != components.size())
-        throw std::invalid_argument("");
-      return values;
-    };
     std::size_t at = 0;
     while (at < text.size())
       {
@@ -458,7 +462,7 @@ namespace granflow::dp
         std::vector<double> values;
         try
           {
-            values = numbers(text.substr(open + 1, close - open - 1));
+            values = parse_numbers(text.substr(open + 1, close - open - 1), components.size());
           }
         catch (const std::exception &)
           {
