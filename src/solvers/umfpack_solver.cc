@@ -7,6 +7,34 @@
 
 namespace granflow::solvers
 {
+  namespace
+  {
+    /// UMFPACK's status code with its meaning, for messages.
+    std::string
+    status_text(const int status)
+    {
+      std::string meaning;
+      switch (status)
+        {
+        case UMFPACK_WARNING_singular_matrix:
+          meaning = "singular matrix";
+          break;
+        case UMFPACK_ERROR_out_of_memory:
+          meaning = "out of memory";
+          break;
+        case UMFPACK_ERROR_invalid_matrix:
+          meaning = "invalid matrix";
+          break;
+        case UMFPACK_ERROR_n_nonpositive:
+          meaning = "matrix of no rows";
+          break;
+        default:
+          break;
+        }
+      return "status " + std::to_string(status) + (meaning.empty() ? "" : ", " + meaning);
+    }
+  } // namespace
+
   // A CSR matrix is the CSC storage of its transpose: UMFPACK is given M^T in CSC and solves
   // with UMFPACK_At, i.e. (M^T)^T x = b.
 
@@ -66,17 +94,19 @@ namespace granflow::solvers
         const int status = umfpack_di_symbolic(n, n, M.row_start.data(), M.column.data(),
                                                M.value.data(), &symbolic, control.data(), nullptr);
         if (status != UMFPACK_OK)
-          throw std::runtime_error("UmfpackSolver: symbolic analysis failed (status " +
-                                   std::to_string(status) + ")");
+          throw std::runtime_error("UmfpackSolver: symbolic analysis failed (" +
+                                   status_text(status) + ")");
         pattern_start  = M.row_start;
         pattern_column = M.column;
       }
     const int status = umfpack_di_numeric(M.row_start.data(), M.column.data(), M.value.data(),
                                           symbolic, &numeric, control.data(), nullptr);
+    if (status == UMFPACK_WARNING_singular_matrix)
+      throw SingularMatrix("UmfpackSolver: numeric factorisation failed (" + status_text(status) +
+                           ")");
     if (status != UMFPACK_OK)
-      throw std::runtime_error(
-          "UmfpackSolver: numeric factorisation failed (status " + std::to_string(status) +
-          (status == UMFPACK_WARNING_singular_matrix ? ", singular matrix)" : ")"));
+      throw std::runtime_error("UmfpackSolver: numeric factorisation failed (" +
+                               status_text(status) + ")");
     matrix = &M;
   }
 
@@ -90,7 +120,6 @@ namespace granflow::solvers
                                         matrix->value.data(), x.data(), b.data(), numeric,
                                         control.data(), nullptr);
     if (status != UMFPACK_OK)
-      throw std::runtime_error("UmfpackSolver: solve failed (status " + std::to_string(status) +
-                               ")");
+      throw std::runtime_error("UmfpackSolver: solve failed (" + status_text(status) + ")");
   }
 } // namespace granflow::solvers

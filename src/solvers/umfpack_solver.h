@@ -6,10 +6,21 @@
 
 #include "solvers/sparse.h"
 
+#include <stdexcept>
 #include <vector>
 
 namespace granflow::solvers
 {
+  /// Thrown by UmfpackSolver::factorize when the matrix is singular (a zero pivot). Every other
+  /// failure (out of memory, an invalid matrix) is a plain std::runtime_error: a caller that
+  /// answers a singular matrix by changing its problem (a shorter increment) must not mistake
+  /// those for one.
+  class SingularMatrix : public std::runtime_error
+  {
+  public:
+    using std::runtime_error::runtime_error;
+  };
+
   class UmfpackSolver
   {
   public:
@@ -25,7 +36,8 @@ namespace granflow::solvers
     operator=(const UmfpackSolver &) = delete;
 
     /// Factorises M. The first call (or a call with a different pattern) also analyses it.
-    /// Throws std::runtime_error if M is singular.
+    /// Throws SingularMatrix if M is singular, std::runtime_error (naming UMFPACK's status) if
+    /// UMFPACK fails otherwise.
     void
     factorize(const CsrMatrix &M);
 

@@ -6,6 +6,7 @@
 #include "solvers/dense.h"
 #include "solvers/soc.h"
 #include "solvers/solve_monitor.h"
+#include "solvers/umfpack_solver.h"
 
 #include <gtest/gtest.h>
 
@@ -1001,3 +1002,53 @@ namespace
     EXPECT_NEAR(x[1], 1., 1e-14);
   }
 } // namespace
+
+// The sparse LU used by the interior point and by ngf's Newton steps: it solves M x = b for an
+// unsymmetric M (not M^T x = b: a CSR matrix is handed to UMFPACK as the CSC storage of M^T),
+// refactorises with new values on the same pattern, and reports a singular matrix as
+// SingularMatrix, which ngf answers by cutting its increment, distinct from its other failures.
+TEST(UmfpackSolver, SolvesUnsymmetricSystemsAndReportsASingularMatrixAsSuch)
+{
+  const std::vector<std::vector<double>> M       = {{4., 1., 0.}, {2., 5., 1.}, {0., 3., 6.}};
+  const std::vector<double>              x_exact = {1., -2., 3.};
+  for (const bool diagonal_pivoting : {false, true})
+    {
+      UmfpackSolver lu(diagonal_pivoting);
+      for (const double scale : {1., -2.5}) // a second factorisation reuses the symbolic analysis
+        {
+          CsrMatrix A = dense_to_csr(M);
+          for (double &a : A.value)
+            a *= scale;
+          std::vector<double> b, x;
+          A.vmult(b, x_exact);
+          lu.factorize(A);
+          lu.solve(x, b);
+          for (std::size_t i = 0; i < x.size(); ++i)
+            EXPECT_NEAR(x[i], x_exact[i], 1e-14) << "row " << i << ", scale " << scale;
+        }
+      // The same pattern with a zero second column: singular, found on the kept analysis.
+      CsrMatrix S = dense_to_csr(M);
+      for (std::size_t k = 0; k < S.column.size(); ++k)
+        if (S.column[k] == 1)
+          S.value[k] = 0.;
+      EXPECT_THROW(lu.factorize(S), SingularMatrix);
+    }
+  // A pattern UMFPACK refuses (a row's columns out of order) is another failure, named.
+  CsrMatrix unsorted = dense_to_csr(M);
+  std::swap(unsorted.column[0], unsorted.column[1]);
+  std::swap(unsorted.value[0], unsorted.value[1]);
+  UmfpackSolver lu;
+  try
+    {
+      lu.factorize(unsorted);
+      ADD_FAILURE() << "a matrix with unsorted columns was factorised";
+    }
+  catch (const SingularMatrix &)
+    {
+      ADD_FAILURE() << "a matrix with unsorted columns was reported as singular";
+    }
+  catch (const std::runtime_error &e)
+    {
+      EXPECT_NE(std::string(e.what()).find("invalid matrix"), std::string::npos) << e.what();
+    }
+}

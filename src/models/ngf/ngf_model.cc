@@ -489,9 +489,10 @@ namespace granflow::ngf
           dU.reinit(x.size(), true);
           std::copy(x.begin(), x.end(), dU.begin());
         }
-      catch (const std::runtime_error &)
+      catch (const solvers::SingularMatrix &)
         {
-          return false; // singular (UmfpackSolver's errors)
+          return false; // UMFPACK's other failures (out of memory) propagate: no increment cures
+                        // them
         }
       solve_seconds +=
           std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
