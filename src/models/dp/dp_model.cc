@@ -79,6 +79,22 @@ namespace granflow::dp
       return {{2. * v[0] - sum / 3., 2. * v[1] - sum / 3., 2. * v[2] - sum / 3.}};
     }
 
+    /// Calls visit(cell) for every cell face on boundary `id`, with `fvf` reinitialised on that
+    /// face.
+    template <typename Visit>
+    void
+    for_each_face_on(const DoFHandler<dim> &dofs, const types::boundary_id id,
+                     FEFaceValues<dim> &fvf, const Visit &visit)
+    {
+      for (const auto &cell : dofs.active_cell_iterators())
+        for (const unsigned int f : cell->face_indices())
+          if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
+            {
+              fvf.reinit(cell, f);
+              visit(cell);
+            }
+    }
+
     class Problem
     {
     public:
@@ -678,19 +694,15 @@ namespace granflow::dp
         FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature,
                                   update_values | update_normal_vectors | update_JxW_values |
                                       update_quadrature_points);
-        for (const auto &cell : dof_u.active_cell_iterators())
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
-              {
-                fvf.reinit(cell, f);
-                cell->get_dof_indices(dofs);
-                for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                  {
-                    const Tensor<1, dim> traction = t(fvf.quadrature_point(q), fvf.normal_vector(q));
-                    for (unsigned int i = 0; i < n; ++i)
-                      load[dofs[i]] += traction * fvf[velocity].value(i, q) * fvf.JxW(q);
-                  }
-              }
+        for_each_face_on(dof_u, id, fvf, [&](const auto &cell) {
+          cell->get_dof_indices(dofs);
+          for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+            {
+              const Tensor<1, dim> traction = t(fvf.quadrature_point(q), fvf.normal_vector(q));
+              for (unsigned int i = 0; i < n; ++i)
+                load[dofs[i]] += traction * fvf[velocity].value(i, q) * fvf.JxW(q);
+            }
+        });
       };
 
       // Neumann boundaries (21): traction sigma_ext n, with sigma_ext = -p_ext I (External
@@ -1118,14 +1130,10 @@ namespace granflow::dp
       FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature, update_normal_vectors);
       const auto            largest_pull = [&](const types::boundary_id id, const auto &sigma) {
         double pull = -std::numeric_limits<double>::infinity();
-        for (const auto &cell : dof_u.active_cell_iterators())
-          for (const unsigned int f : cell->face_indices())
-            if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
-              {
-                fvf.reinit(cell, f);
-                const Tensor<1, dim> n = fvf.normal_vector(0);
-                pull                   = std::max(pull, n * (sigma * n));
-              }
+        for_each_face_on(dof_u, id, fvf, [&](const auto &) {
+          const Tensor<1, dim> n = fvf.normal_vector(0);
+          pull                   = std::max(pull, n * (sigma * n));
+        });
         return pull;
       };
       const auto warn = [&](const std::string &entry, const types::boundary_id id,
@@ -2217,13 +2225,9 @@ namespace granflow::dp
             const QGauss<dim - 1> face_quadrature(1);
             FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature,
                                       update_normal_vectors | update_JxW_values);
-            for (const auto &cell : dof_u.active_cell_iterators())
-              for (const unsigned int f : cell->face_indices())
-                if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
-                  {
-                    fvf.reinit(cell, f);
-                    force += p_ext * fvf.normal_vector(0) * fvf.JxW(0);
-                  }
+            for_each_face_on(dof_u, id, fvf, [&](const auto &) {
+              force += p_ext * fvf.normal_vector(0) * fvf.JxW(0);
+            });
           }
       return force;
     }
@@ -2241,21 +2245,16 @@ namespace granflow::dp
       std::vector<SymmetricTensor<2, dim>> D(face_quadrature.size());
       const bool                           bagnold = prm.rheology.viscosity == "bagnold";
       Tensor<1, dim>                       force;
-      for (const auto &cell : dof_u.active_cell_iterators())
-        for (const unsigned int f : cell->face_indices())
-          if (cell->face(f)->at_boundary() && cell->face(f)->boundary_id() == id)
-            {
-              fvf.reinit(cell, f);
-              fvf[velocity].get_function_symmetric_gradients(u, D);
-              for (unsigned int q = 0; q < face_quadrature.size(); ++q)
-                {
-                  const double                  eta = bagnold ? bagnold_viscosity(D[q]) : 1.;
-                  const SymmetricTensor<2, dim> Db =
-                      deviator(D[q]) +
-                      prm.rheology.b / dim * trace(D[q]) * unit_symmetric_tensor<dim>();
-                  force += 2. / prm.rheology.Re * eta * (Db * fvf.normal_vector(q)) * fvf.JxW(q);
-                }
-            }
+      for_each_face_on(dof_u, id, fvf, [&](const auto &) {
+        fvf[velocity].get_function_symmetric_gradients(u, D);
+        for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+          {
+            const double                  eta = bagnold ? bagnold_viscosity(D[q]) : 1.;
+            const SymmetricTensor<2, dim> Db =
+                deviator(D[q]) + prm.rheology.b / dim * trace(D[q]) * unit_symmetric_tensor<dim>();
+            force += 2. / prm.rheology.Re * eta * (Db * fvf.normal_vector(q)) * fvf.JxW(q);
+          }
+      });
       return force;
     }
 
