@@ -85,8 +85,12 @@ namespace granflow::solvers
     if (M.n_rows != M.n_cols)
       throw std::invalid_argument("UmfpackSolver: matrix is not square");
     const int n = static_cast<int>(M.n_rows);
+    // A failure below leaves no factorisation: solve() then refuses instead of using the factors
+    // of a singular matrix (UMFPACK keeps them) or a matrix that may no longer exist.
     if (numeric)
       umfpack_di_free_numeric(&numeric);
+    numeric = nullptr;
+    matrix  = nullptr;
     if (!symbolic || pattern_start != M.row_start || pattern_column != M.column)
       {
         if (symbolic)
@@ -101,6 +105,11 @@ namespace granflow::solvers
       }
     const int status = umfpack_di_numeric(M.row_start.data(), M.column.data(), M.value.data(),
                                           symbolic, &numeric, control.data(), nullptr);
+    if (status != UMFPACK_OK && numeric)
+      {
+        umfpack_di_free_numeric(&numeric);
+        numeric = nullptr;
+      }
     if (status == UMFPACK_WARNING_singular_matrix)
       throw SingularMatrix("UmfpackSolver: numeric factorisation failed (" + status_text(status) +
                            ")");

@@ -1032,6 +1032,16 @@ TEST(UmfpackSolver, SolvesUnsymmetricSystemsAndReportsASingularMatrixAsSuch)
         if (S.column[k] == 1)
           S.value[k] = 0.;
       EXPECT_THROW(lu.factorize(S), SingularMatrix);
+      // ngf's path after a singular Jacobian: no solve with the failed factors, then a new
+      // factorisation on the same pattern that solves.
+      std::vector<double> b, x;
+      EXPECT_THROW(lu.solve(x, b), std::logic_error);
+      const CsrMatrix A = dense_to_csr(M);
+      A.vmult(b, x_exact);
+      lu.factorize(A);
+      lu.solve(x, b);
+      for (std::size_t i = 0; i < x.size(); ++i)
+        EXPECT_NEAR(x[i], x_exact[i], 1e-14) << "row " << i << " after the singular matrix";
     }
   // A pattern UMFPACK refuses (a row's columns out of order) is another failure, named.
   CsrMatrix unsorted = dense_to_csr(M);

@@ -647,7 +647,7 @@ namespace
   }
 
   // A user's mesh may name a boundary with a character the case file's lists use as a separator
-  // (README, "Your own mesh"): the error for the name the user tried says which names cannot be
+  // (docs/dp.md, "A user mesh"): the error for the name the user tried says which names cannot be
   // written, and why.
   TEST_F(Geometry, UnknownBoundaryNameSaysWhichMeshNamesCannotBeWritten)
   {

@@ -2,7 +2,7 @@
 // (4.3, Property 3), and the residual's scale at each point.
 #include "models/dp/dp_problem.h"
 
-namespace granflow::dp::internal
+namespace granflow::dp::detail
 {
   /// Daviet (25a): a(u, v) = 2/Re int eta (D0(u):D0(v) + b/d div u div v), l(v) = int e_g . v
   /// + int_{B_N} sigma_ext n . v. A is kept on the free dofs; the Dirichlet lifting moves to l.
@@ -123,18 +123,7 @@ namespace granflow::dp::internal
                        "the mesh (" + std::to_string(data.n_points()) +
                            " constraint points) is too large for the solvers' 32-bit sparse "
                            "indices: expected a coarser mesh");
-    data.A        = solvers::CsrMatrix();
-    data.A.n_rows = data.A.n_cols = n_free;
-    data.A.row_start.push_back(0);
-    for (const auto &row : rows)
-      {
-        for (const auto &[j, a] : row)
-          {
-            data.A.column.push_back(j);
-            data.A.value.push_back(a);
-          }
-        data.A.row_start.push_back(static_cast<int>(data.A.column.size()));
-      }
+    data.A = csr_from_rows(rows, n_free);
     data.l = std::move(lifting);
     for (types::global_dof_index i = 0; i < dof_u.n_dofs(); ++i)
       if (free_index[i] >= 0)
@@ -209,19 +198,7 @@ namespace granflow::dp::internal
         ++cell_s;
       }
 
-    data.H        = solvers::CsrMatrix();
-    data.H.n_rows = n_points * s_d;
-    data.H.n_cols = n_free;
-    data.H.row_start.push_back(0);
-    for (const auto &row : rows)
-      {
-        for (const auto &[j, h] : row)
-          {
-            data.H.column.push_back(j);
-            data.H.value.push_back(h);
-          }
-        data.H.row_start.push_back(static_cast<int>(data.H.column.size()));
-      }
+    data.H          = csr_from_rows(rows, n_free); // n_points * s_d rows
     data.block_size = s_d;
     data.mu.assign(n_points, prm.rheology.mu);
     data.Bi.assign(n_points, prm.rheology.Bi);
@@ -256,4 +233,4 @@ namespace granflow::dp::internal
     for (std::size_t i = 0; i < n_points; ++i)
       data.gamma_scale[i] = eta_sum[i] / count[i] / (prm.rheology.Re * point_weight[i]);
   }
-} // namespace granflow::dp::internal
+} // namespace granflow::dp::detail

@@ -3,7 +3,7 @@
 // other members are in dp_setup.cc, dp_assemble.cc and dp_postprocess.cc (dp_problem.h).
 #include "models/dp/dp_problem.h"
 
-namespace granflow::dp::internal
+namespace granflow::dp::detail
 {
   solvers::ConeSolverStats
   Problem::solve_cone_problem()
@@ -323,14 +323,14 @@ namespace granflow::dp::internal
     s << "The iterate of least residual was written to " << out.target();
     return s.str();
   }
-} // namespace granflow::dp::internal
+} // namespace granflow::dp::detail
 
 namespace granflow::dp
 {
   Results
   run(const Parameters &parameters, OutputDirectory &output, Logger &log)
   {
-    internal::Problem problem(parameters, output, log);
+    detail::Problem problem(parameters, output, log);
     return problem.run();
   }
 } // namespace granflow::dp

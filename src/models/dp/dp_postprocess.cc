@@ -2,7 +2,7 @@
 // velocity profile, fluxes, boundary forces and drag (6.3.1), the summary and the VTU.
 #include "models/dp/dp_problem.h"
 
-namespace granflow::dp::internal
+namespace granflow::dp::detail
 {
   /// Fields at the constraint points (stress lambda; discrete strain rate gamma / (2 w_i), the
   /// chi-coordinates of D(u) the rheology sees) and the zones; sets stress_fields and cell_zone.
@@ -143,7 +143,7 @@ namespace granflow::dp::internal
         if (pf.max_D0 > 0.1 * pf.rigid_D0_min)
           w << "the strain rates are within a decade of the threshold, so a slow flow cannot be "
                "told from rest at Solver/Tolerance = "
-            << prm.solver.tolerance << " (lower it: README, Output directory); ";
+            << prm.solver.tolerance << " (lower it: docs/dp.md#fields-of-solution-0000vtu); ";
         w << "where the body is rigid the velocity is unique, the stress is not (4.4.4): p, tau "
              "and the boundary forces are one admissible field in equilibrium with the loads, "
              "which the method picks (the fixed point and the interior point differ)";
@@ -159,7 +159,7 @@ namespace granflow::dp::internal
           << pf.rigid_D0_max << ", " << 100. * pf.rigid_D0_max / pf.max_D0
           << " % of the largest abs D0 (" << pf.max_D0
           << "), because of Solver/Tolerance = " << prm.solver.tolerance
-          << "; lower the tolerance for a zone map (README, Output directory)";
+          << "; lower the tolerance for a zone map (docs/dp.md#fields-of-solution-0000vtu)";
         report.warn(w.str());
       }
   }
@@ -723,4 +723,4 @@ namespace granflow::dp::internal
     data_out.build_patches(mapping, 2);
     out.write_solution(data_out);
   }
-} // namespace granflow::dp::internal
+} // namespace granflow::dp::detail

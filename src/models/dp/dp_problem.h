@@ -36,19 +36,23 @@
 #include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <limits>
 #include <map>
 #include <optional>
 #include <set>
 #include <sstream>
+#include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
-namespace granflow::dp::internal
+namespace granflow::dp::detail
 {
   using namespace dealii;
   constexpr int          dim = 2;
@@ -82,6 +86,26 @@ namespace granflow::dp::internal
   {
     const double sum = v[0] + v[1] + v[2];
     return {{2. * v[0] - sum / 3., 2. * v[1] - sum / 3., 2. * v[2] - sum / 3.}};
+  }
+
+  /// The CSR matrix of rows.size() x n_cols with the given rows (column -> value).
+  inline solvers::CsrMatrix
+  csr_from_rows(const std::vector<std::map<int, double>> &rows, const std::size_t n_cols)
+  {
+    solvers::CsrMatrix M;
+    M.n_rows = rows.size();
+    M.n_cols = n_cols;
+    M.row_start.push_back(0);
+    for (const auto &row : rows)
+      {
+        for (const auto &[j, a] : row)
+          {
+            M.column.push_back(j);
+            M.value.push_back(a);
+          }
+        M.row_start.push_back(static_cast<int>(M.column.size()));
+      }
+    return M;
   }
 
   /// Calls visit(cell) for every cell face on boundary `id`, with `fvf` reinitialised on that
@@ -129,9 +153,9 @@ namespace granflow::dp::internal
     /// mesh.
     void
     apply_boundary_conditions();
-    /// free_index, free_coefficient, reaction_dof and n_free from the constraints.
     void
     warn_of_tension();
+    /// free_index, free_coefficient, reaction_dof and n_free from the constraints.
     void
     number_free_dofs();
     void
@@ -347,4 +371,4 @@ namespace granflow::dp::internal
         }
   }
 
-} // namespace granflow::dp::internal
+} // namespace granflow::dp::detail

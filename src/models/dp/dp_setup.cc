@@ -2,7 +2,7 @@
 // that need the mesh (rigid motions left free, inflow into a closed domain). Daviet 4.3, 4.4.4.
 #include "models/dp/dp_problem.h"
 
-namespace granflow::dp::internal
+namespace granflow::dp::detail
 {
   void
   Problem::make_mesh()
@@ -634,4 +634,4 @@ namespace granflow::dp::internal
           throw InputError(prm.case_file, "Boundary conditions/Velocity", what.str());
         }
   }
-} // namespace granflow::dp::internal
+} // namespace granflow::dp::detail
