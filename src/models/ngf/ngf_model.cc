@@ -32,6 +32,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <iomanip>
 #include <limits>
 #include <map>
@@ -1050,6 +1051,9 @@ namespace granflow::ngf
       AffineConstraints<double> step_constraints;
       s.v.reinit(U.size());
       s.rate.reinit(U.size());
+      // (run time, wall displacement) of the increments of the last 10 s, for the progress
+      // line's estimate of the time left
+      std::deque<std::pair<double, double>> pace;
       while (s.loading || s.u_wall < scale.u_end * (1. - 1e-12))
         {
           // What is left is divided into equal increments of at most du, so that the run ends
@@ -1112,6 +1116,21 @@ namespace granflow::ngf
           p << "increment " << s.increment << ": wall displacement " << s.u_wall / d << " d of "
             << scale.u_end / d << ", mu_wall " << s.mu_wall << ", " << iterations
             << " Newton iterations";
+          // The time left at the pace of the last 10 s, once the increments have reached
+          // Solver/Max increment: while they grow (the yielding transient) the pace says little
+          // of what is left.
+          const double now    = log.elapsed();
+          const bool   capped = du >= prm.solver.max_increment * d * (1. - 1e-12);
+          if (!capped)
+            pace.clear();
+          pace.emplace_back(now, s.u_wall);
+          while (pace.size() > 2 && pace.front().first < now - 10.)
+            pace.pop_front();
+          const double advanced = pace.back().second - pace.front().second;
+          if (capped && advanced > 0. && now - pace.front().first >= 1.)
+            p << ", about "
+              << std::lround((scale.u_end - s.u_wall) / advanced * (now - pace.front().first))
+              << " s left";
           log.progress(p.str());
           if (interrupt::requested())
             {
