@@ -271,8 +271,10 @@ namespace granflow::dp::detail
       s << " stalled at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
         << ") after " << stats.outer_iterations << " iterations: " << stats.stall_reason
         << " (docs/solvers.md), which higher limits do not change; a looser "
-           "Solver/Tolerance, "
-           "another mesh or Solver/Method = fixed point may. ";
+           "Solver/Tolerance, another mesh, "
+        << (p1d ? "Solver/Stress element = P1 (slower per iteration; docs/dp.md#solver-limits) "
+                : "")
+        << "or Solver/Method = fixed point may. ";
     else if (stats.timed_out)
       s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds << " at residual "
         << stats.residual << " (tolerance " << prm.solver.tolerance << ") after "
