@@ -2,6 +2,8 @@
 // (4.3, Property 3), and the residual's scale at each point.
 #include "models/dp/dp_problem.h"
 
+#include <deal.II/dofs/dof_tools.h>
+
 namespace granflow::dp::detail
 {
   /// Daviet (25a): a(u, v) = 2/Re int eta (D0(u):D0(v) + b/d div u div v), l(v) = int e_g . v

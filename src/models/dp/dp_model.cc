@@ -3,6 +3,9 @@
 // other members are in dp_setup.cc, dp_assemble.cc and dp_postprocess.cc (dp_problem.h).
 #include "models/dp/dp_problem.h"
 
+#include <deal.II/grid/grid_tools.h>
+#include <filesystem>
+
 namespace granflow::dp::detail
 {
   solvers::ConeSolverStats

@@ -38,11 +38,12 @@ namespace granflow::dp
     prm.enter_subsection("Geometry");
     {
       auto &g = geometry;
-      prm.add_parameter("Shape", g.shape,
-                        "Built-in geometry of Daviet 2016 or a user mesh: channel (Fig. 3), "
-                        "square patch (inclined plane, Fig. 6), half silo (Fig. 8), cylinder channel "
-                        "(Fig. 12), file.",
-                        Selection("channel|square patch|half silo|cylinder channel|file"));
+      prm.add_parameter(
+          "Shape", g.shape,
+          "Built-in geometry of Daviet 2016 or a user mesh: channel (Fig. 3), "
+          "square patch (inclined plane, Fig. 6), half silo (Fig. 8), cylinder channel "
+          "(Fig. 12), file.",
+          Selection("channel|square patch|half silo|cylinder channel|file"));
       prm.add_parameter(
           "Mesh file", g.mesh_file,
           "Gmsh .msh file with named physical curves (Shape = file); a relative path is "
@@ -70,7 +71,8 @@ namespace granflow::dp
       prm.add_parameter("Aperture", g.aperture, "Silo aperture D (full width), > 0.",
                         Interval::positive());
       prm.add_parameter("Outlet extension", g.outlet_extension,
-                        "Depth of the channel added below the outlet (Appendix B), >= 0.", Double(0.));
+                        "Depth of the channel added below the outlet (Appendix B), >= 0.",
+                        Double(0.));
     }
     prm.leave_subsection();
 
@@ -102,7 +104,8 @@ namespace granflow::dp
     prm.enter_subsection("Boundary conditions");
     {
       auto &b = boundaries;
-      prm.add_parameter("No-slip", b.no_slip, "Boundaries with u = 0, comma-separated names.", Anything());
+      prm.add_parameter("No-slip", b.no_slip, "Boundaries with u = 0, comma-separated names.",
+                        Anything());
       prm.add_parameter(
           "Velocity", b.velocity,
           "'name: (u_x, u_y), ...': boundaries with a prescribed constant velocity u = u_D "
@@ -152,11 +155,12 @@ namespace granflow::dp
     prm.enter_subsection("Solver");
     {
       auto &s = solver;
-      prm.add_parameter("Stress element", s.stress_element,
-                        "P1d: discontinuous P1 stress, constraints at the 3 quadrature points of each "
-                        "triangle (Property 3); P1: continuous P1 stress, constraints at the nodes "
-                        "(trapezoidal rule, 4.3.5).",
-                        Selection("P1d|P1"));
+      prm.add_parameter(
+          "Stress element", s.stress_element,
+          "P1d: discontinuous P1 stress, constraints at the 3 quadrature points of each "
+          "triangle (Property 3); P1: continuous P1 stress, constraints at the nodes "
+          "(trapezoidal rule, 4.3.5).",
+          Selection("P1d|P1"));
       prm.add_parameter(
           "Method", s.method,
           "fixed point: Cadoux's fixed point on s = mu |gamma_T| (Algorithm 1), each "
@@ -166,10 +170,11 @@ namespace granflow::dp
           "tolerances where the fixed point stalls, but can lose its central path on fine "
           "meshes (docs/solvers.md).",
           Selection("fixed point|interior point"));
-      prm.add_parameter("Inner solver", s.inner_solver,
-                        "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
-                        "spg (spectral projected gradient).",
-                        Selection("pg|apgd|spg"));
+      prm.add_parameter(
+          "Inner solver", s.inner_solver,
+          "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
+          "spg (spectral projected gradient).",
+          Selection("pg|apgd|spg"));
       prm.add_parameter("Residual", s.residual,
                         "Stopping residual: fischer-burmeister (Bi = 0 points) or alart-curnier.",
                         Selection("fischer-burmeister|alart-curnier"));
@@ -236,8 +241,10 @@ namespace granflow::dp
                         "Inflow boundary) Fr and C_D.",
                         Anything());
       prm.add_parameter("Inflow boundary", o.inflow_boundary,
-                        "Boundary whose mean velocity is U_infinity (Fr, C_D of 6.3.1).", Anything());
-      prm.add_parameter("Write vtu", o.write_vtu, "Write solution-0000.vtu and solution.pvd.", Bool());
+                        "Boundary whose mean velocity is U_infinity (Fr, C_D of 6.3.1).",
+                        Anything());
+      prm.add_parameter("Write vtu", o.write_vtu, "Write solution-0000.vtu and solution.pvd.",
+                        Bool());
     }
     prm.leave_subsection();
   }

@@ -2,6 +2,11 @@
 // velocity profile, fluxes, boundary forces and drag (6.3.1), the summary and the VTU.
 #include "models/dp/dp_problem.h"
 
+#include "postprocess/analytic.h"
+
+#include <deal.II/grid/grid_tools.h>
+#include <deal.II/numerics/data_out.h>
+
 namespace granflow::dp::detail
 {
   /// Fields at the constraint points (stress lambda; discrete strain rate gamma / (2 w_i), the

@@ -14,32 +14,24 @@
 #include "core/run_report.h"
 #include "fem/mapping_without_cell_similarity.h"
 #include "geometry/geometry.h"
-#include "postprocess/analytic.h"
 #include "postprocess/profiles.h"
 #include "rheology/drucker_prager.h"
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
 
-#include <deal.II/base/function.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/base/symmetric_tensor.h>
 #include <deal.II/dofs/dof_handler.h>
-#include <deal.II/dofs/dof_tools.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/fe_values.h>
 #include <deal.II/fe/mapping_fe.h>
-#include <deal.II/grid/grid_tools.h>
-#include <deal.II/grid/manifold_lib.h>
 #include <deal.II/lac/vector.h>
-#include <deal.II/numerics/data_out.h>
-#include <deal.II/numerics/vector_tools.h>
 
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <limits>

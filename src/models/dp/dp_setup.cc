@@ -2,6 +2,12 @@
 // that need the mesh (rigid motions left free, inflow into a closed domain). Daviet 4.3, 4.4.4.
 #include "models/dp/dp_problem.h"
 
+#include <deal.II/base/function.h>
+#include <deal.II/dofs/dof_tools.h>
+#include <deal.II/grid/manifold_lib.h>
+#include <deal.II/numerics/vector_tools.h>
+#include <filesystem>
+
 namespace granflow::dp::detail
 {
   void
