@@ -31,8 +31,9 @@ configure-debug: deps
 	@if [ ! -f $(DEBUG_BUILD_DIR)/build.ninja ]; then \
 	  cmake -S . -B $(DEBUG_BUILD_DIR) -G Ninja -DCMAKE_BUILD_TYPE=Debug -DGRANFLOW_BENCHMARKS=OFF; fi
 
+# Only the unit tests run there (test-debug), so only they are built.
 build-debug: configure-debug
-	cmake --build $(DEBUG_BUILD_DIR) -j $(JOBS)
+	cmake --build $(DEBUG_BUILD_DIR) -j $(JOBS) --target unit_tests
 
 bench: build
 	bench/run_all.sh $(BUILD_DIR)
