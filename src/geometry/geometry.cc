@@ -527,7 +527,7 @@ namespace granflow::geometry
     // '(', and trim spaces: a mesh name with one of these cannot be written there.
     std::string unwritable;
     for (const auto &[known, id] : boundary_ids)
-      if (known.find_first_of(",:(#\t") != std::string::npos ||
+      if (known.empty() || known.find_first_of(",:(#\t") != std::string::npos ||
           std::isspace(static_cast<unsigned char>(known.front())) ||
           std::isspace(static_cast<unsigned char>(known.back())))
         unwritable += (unwritable.empty() ? "'" : ", '") + known + "'";

@@ -652,11 +652,11 @@ namespace
   TEST_F(Geometry, UnknownBoundaryNameSaysWhichMeshNamesCannotBeWritten)
   {
     Mesh mesh;
-    mesh.boundary_ids = {{"inlet", 1}, {"wall (left)", 2}, {"a,b", 3},
-                         {"top:1", 4}, {" bed", 5},        {"c#1", 6}};
+    mesh.boundary_ids = {{"inlet", 1}, {"wall (left)", 2}, {"a,b", 3}, {"top:1", 4},
+                         {" bed", 5},  {"c#1", 6},         {"", 7}};
     expect_contains(input_error([&] { mesh.id("wall", "cases/mine.prm", "No-slip"); }),
                     {"cases/mine.prm", "No-slip", "'wall'",
-                     "' bed', 'a,b', 'c#1', 'top:1', 'wall (left)' cannot be named",
+                     "'', ' bed', 'a,b', 'c#1', 'top:1', 'wall (left)' cannot be named",
                      "rename the physical curve"});
     mesh.boundary_ids = {{"inlet", 1}, {"outlet", 2}};
     EXPECT_EQ(input_error([&] { mesh.id("wall", "cases/mine.prm"); }).find("cannot be named"),

@@ -531,10 +531,14 @@ namespace granflow::ngf
       DoFTools::make_sparsity_pattern(dof_handler, dsp, newton_constraints, false);
       sparsity.copy_from(dsp);
       jacobian.reinit(sparsity);
-      AssertThrow(sparsity.n_nonzero_elements() <
-                      static_cast<std::size_t>(std::numeric_limits<int>::max()),
-                  ExcMessage("ngf: the Jacobian has more nonzeros than UMFPACK's 32-bit indices "
-                             "address; use a coarser mesh (Geometry/Element size)"));
+      // Bad input like dp's guard of the same limit (exit 2), not an internal error.
+      if (sparsity.n_nonzero_elements() >=
+          static_cast<std::size_t>(std::numeric_limits<int>::max()))
+        throw InputError(prm.case_file, "Geometry/Element size",
+                         "the mesh's Jacobian has " +
+                             std::to_string(sparsity.n_nonzero_elements()) +
+                             " nonzeros, more than the 32-bit indices of the linear solver "
+                             "(UMFPACK) address: expected a coarser mesh");
       index_jacobian_csr();
       // Newton corrects an inexact step by itself (it also steps with an old Jacobian): UMFPACK's
       // iterative refinement, 2 steps by default, cost 30 % of the linear solves on the annulus
