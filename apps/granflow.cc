@@ -34,13 +34,13 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
 
   /// The help text; its list of models is the registry's, so a new model shows up by itself.
   void
-  print_usage()
+  print_usage(std::ostream &out)
   {
-    std::cout << usage_commands << "\nModels (the case file's `set Model = ...`):\n";
+    out << usage_commands << "\nModels (the case file's `set Model = ...`):\n";
     for (const auto &m : granflow::models())
-      std::cout << "  " << m.name << std::string(m.name.size() < 6 ? 6 - m.name.size() : 1, ' ')
-                << m.description << '\n';
-    std::cout << usage_results;
+      out << "  " << m.name << std::string(m.name.size() < 6 ? 6 - m.name.size() : 1, ' ')
+          << m.description << '\n';
+    out << usage_results;
   }
 
   std::filesystem::path
@@ -87,11 +87,11 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
           prm.print_parameters(std::cout, dealii::ParameterHandler::Text);
           return 0;
         }
-    std::cerr << "granflow: unknown model '" << model << "': expected one of";
+    std::string known;
     for (const auto &m : granflow::models())
-      std::cerr << ' ' << m.name;
-    std::cerr << '\n';
-    return granflow::exit_status::bad_input;
+      known += (known.empty() ? "" : ", ") + m.name;
+    throw granflow::InputError("print-parameters: unknown model '" + model + "': expected one of " +
+                               known);
   }
 
   int
@@ -104,7 +104,18 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
         if ((a == "--set" || a == "--output") && i + 1 == args.size())
           throw granflow::InputError(a + ": missing value");
         if (a == "--set")
-          request.overrides.push_back(granflow::parse_override(args[++i]));
+          {
+            // An entry name with a space, unquoted, reaches us in two arguments: "--set
+            // Solver/Stress element=P1" gives "Solver/Stress" and "element=P1".
+            const std::string &value = args[++i];
+            if (value.find('=') == std::string::npos && i + 1 < args.size() &&
+                args[i + 1].rfind("--", 0) != 0 && args[i + 1].find('=') != std::string::npos)
+              throw granflow::InputError("--set " + value + " " + args[i + 1] +
+                                         ": expected Section/key=value as one argument (quote "
+                                         "an entry whose name has a space: --set '" +
+                                         value + " " + args[i + 1] + "')");
+            request.overrides.push_back(granflow::parse_override(value));
+          }
         else if (a.rfind("--set=", 0) == 0)
           request.overrides.push_back(granflow::parse_override(a.substr(6)));
         else if (a == "--output")
@@ -115,6 +126,11 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
           }
         else if (a == "--quiet")
           request.quiet = true;
+        else if (a == "--help" || a == "-h")
+          {
+            print_usage(std::cout);
+            return 0;
+          }
         else if (a.rfind("--", 0) == 0)
           throw granflow::InputError("unknown option '" + a + "' (see granflow --help)");
         else if (request.case_file.empty())
@@ -158,10 +174,16 @@ int
 main(int argc, char **argv)
 {
   const std::vector<std::string> args(argv + 1, argv + argc);
-  if (args.empty() || args[0] == "--help" || args[0] == "-h" || args[0] == "help")
+  if (args.empty())
     {
-      print_usage();
-      return args.empty() ? granflow::exit_status::bad_input : 0;
+      std::cerr << "granflow: error: missing command: expected run, print-parameters, "
+                   "list-cases, --help or --version (`granflow --help` shows how)\n";
+      return granflow::exit_status::bad_input;
+    }
+  if (args[0] == "--help" || args[0] == "-h" || args[0] == "help")
+    {
+      print_usage(std::cout);
+      return 0;
     }
   if (args[0] == "--version")
     {

@@ -52,8 +52,10 @@ namespace granflow::interrupt
       // The next one gets the default action: a user who presses Ctrl-C twice means it.
       std::signal(signal, SIG_DFL);
       // Said at once (write(2) is async-signal-safe), so that nobody presses it twice unawares.
-      say("\ngranflow: stopping at the next iteration; what has been computed will be written "
-          "(Ctrl-C again to quit at once)\n");
+      say(signal == SIGINT ? "\ngranflow: stopping at the next iteration; what has been computed "
+                             "will be written (Ctrl-C again to quit at once)\n"
+                           : "\ngranflow: stopping at the next iteration; what has been computed "
+                             "will be written (a second signal quits at once)\n");
     }
   } // namespace
 

@@ -132,6 +132,17 @@ namespace granflow
                "' in its subsection";
       if (std::regex_search(
               message, m,
+              std::regex(R"(Line <(\d+)> of file <[^>]*>: The line <(.*)> could not be parsed)")))
+        {
+          const std::string line = m[2];
+          return "line " + std::string(m[1]) + ": '" + line +
+                 "' is not a case-file line: expected " +
+                 (line.find('=') != std::string::npos ? "'set " + line + "' (" : std::string("(")) +
+                 "each line sets an entry, opens or ends a subsection, or is a comment: 'set key = "
+                 "value', 'subsection Name', 'end', '# ...')";
+        }
+      if (std::regex_search(
+              message, m,
               std::regex(
                   R"(Line <(\d+)> of file <.*There is no such subsection to be entered: (.*)$)")))
         {
@@ -155,7 +166,11 @@ namespace granflow
     require_readable(const std::string &file)
     {
       if (!std::filesystem::is_regular_file(file) || !std::ifstream(file))
-        throw InputError(file + ": cannot open the case file (no such readable file)");
+        throw InputError(
+            file + ": cannot open the case file (" +
+            (std::filesystem::is_directory(file) ? "it is a directory" : "no such readable file") +
+            "): expected a case file such as cases/daviet2016/cylinder.prm "
+            "(`granflow list-cases` lists them)");
     }
 
     /// The case file's text without a UTF-8 byte-order mark, which some editors write and
@@ -189,37 +204,47 @@ namespace granflow
       return text;
     }
 
-    /// What ParameterHandler does not say, with the line: a subsection left open at the end of the
-    /// file (deal.II's message has no line), and an entry set twice (deal.II keeps the last value
-    /// without a word, so a user's edit above a forgotten line had no effect).
-    void
-    check_structure(const std::string &file, const std::string &text)
+    /// deal.II's keywords, in lower or upper case (ParameterHandler::scan_line).
+    bool
+    starts_with_keyword(const std::string &text, const std::string &keyword)
     {
-      std::istringstream                            in(text);
-      std::vector<std::pair<std::string, unsigned>> open;   // subsection name, line
-      std::map<std::string, unsigned>               set_on; // "Section/key" -> line
-      std::string                                   line, logical;
-      unsigned                                      number = 0, first = 0;
-      const auto words = [](const std::string &text) { // trimmed, inner blanks collapsed
-        std::istringstream w(text);
-        std::string        word, joined;
-        while (w >> word)
-          joined += (joined.empty() ? "" : " ") + word;
-        return joined;
-      };
-      // deal.II's keywords, in lower or upper case (ParameterHandler::scan_line)
-      const auto starts = [](const std::string &text, const std::string &keyword) {
-        std::string upper = keyword;
-        std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);
-        return text.rfind(keyword, 0) == 0 || text.rfind(upper, 0) == 0;
-      };
+      std::string upper = keyword;
+      std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);
+      return text.rfind(keyword, 0) == 0 || text.rfind(upper, 0) == 0;
+    }
+
+    /// Trimmed, inner blanks collapsed.
+    std::string
+    words(const std::string &text)
+    {
+      std::istringstream w(text);
+      std::string        word, joined;
+      while (w >> word)
+        joined += (joined.empty() ? "" : " ") + word;
+      return joined;
+    }
+
+    /// A subsection open at some line of a case file: its name and the line that opened it.
+    using OpenSections = std::vector<std::pair<std::string, unsigned int>>;
+
+    /// Reads a case file's text as ParameterHandler does and calls visit(first, line, open) for
+    /// each logical line: `first` is its first physical line (a trailing backslash continues a
+    /// line, even a comment: ParameterHandler joins the lines first and strips comments after),
+    /// `line` is without its comment, trimmed and with its blanks collapsed, and `open` are the
+    /// subsections open before it. Returns those left open at the end.
+    template <typename Visit>
+    OpenSections
+    scan_case_text(const std::string &text, const Visit &visit)
+    {
+      std::istringstream in(text);
+      OpenSections       open;
+      std::string        line, logical;
+      unsigned int       number = 0, first = 0;
       while (std::getline(in, line))
         {
           ++number;
           if (logical.empty())
             first = number;
-          // A trailing backslash continues the line, even a comment (ParameterHandler joins the
-          // lines first and strips comments after).
           line.erase(line.find_last_not_of(" \t\r") + 1);
           if (!line.empty() && line.back() == '\\')
             {
@@ -231,32 +256,170 @@ namespace granflow
           if (const auto hash = line.find('#'); hash != std::string::npos)
             line.erase(hash);
           line = words(line);
-          if (starts(line, "subsection "))
+          visit(first, line, static_cast<const OpenSections &>(open));
+          if (starts_with_keyword(line, "subsection "))
             open.emplace_back(words(line.substr(11)), first);
-          else if (starts(line, "end"))
-            {
-              // text after "end" is deal.II's to report, with its line
-              if (!open.empty())
-                open.pop_back();
-            }
-          else if (starts(line, "set "))
-            {
-              std::string path;
-              for (const auto &section : open)
-                path += section.first + "/";
-              path += words(line.substr(4, line.find('=') - 4));
-              if (const auto [it, fresh] = set_on.emplace(path, first); !fresh)
-                throw InputError(file, path,
-                                 "is set on line " + std::to_string(it->second) +
-                                     " and again on line " + std::to_string(first) +
-                                     ": expected one value (delete one of the lines)");
-            }
+          else if (starts_with_keyword(line, "end") && !open.empty())
+            open.pop_back(); // text after "end" is deal.II's to report, with its line
           // (an included file's entries are not followed)
         }
+      return open;
+    }
+
+    /// "Section/Sub/" for the subsections `open` ("" at the top level).
+    std::string
+    section_path(const OpenSections &open)
+    {
+      std::string path;
+      for (const auto &section : open)
+        path += section.first + "/";
+      return path;
+    }
+
+    /// What ParameterHandler does not say, with the line: a subsection left open at the end of the
+    /// file (deal.II's message has no line), and an entry set twice (deal.II keeps the last value
+    /// without a word, so a user's edit above a forgotten line had no effect).
+    void
+    check_structure(const std::string &file, const std::string &text)
+    {
+      std::map<std::string, unsigned int> set_on; // "Section/key" -> line
+      const OpenSections                  open = scan_case_text(
+                           text, [&](const unsigned int first, const std::string &line, const OpenSections &open) {
+            if (!starts_with_keyword(line, "set "))
+              return;
+            const std::string path = section_path(open) + words(line.substr(4, line.find('=') - 4));
+            if (const auto [it, fresh] = set_on.emplace(path, first); !fresh)
+              throw InputError(file, path,
+                                                "is set on line " + std::to_string(it->second) +
+                                                    " and again on line " + std::to_string(first) +
+                                                    ": expected one value (delete one of the lines)");
+          });
       if (!open.empty())
         throw InputError(file + ": subsection '" + open.back().first + "' opened on line " +
                          std::to_string(open.back().second) +
                          " is not closed: expected an 'end' line for it");
+    }
+
+    /// The subsections open at line `number` of a case file's text ("Section/Sub/", "" at the
+    /// top level).
+    std::string
+    section_at_line(const std::string &text, const unsigned int number)
+    {
+      std::string path;
+      scan_case_text(text,
+                     [&](const unsigned int first, const std::string &, const OpenSections &open) {
+                       if (first == number)
+                         path = section_path(open);
+                     });
+      return path;
+    }
+
+    /// Every declared entry and subsection of `prm` as "Section/key" and "Section/Sub/" (a
+    /// subsection ends with '/'), read back from its own case-file form.
+    std::vector<std::string>
+    declared_names(const dealii::ParameterHandler &prm)
+    {
+      std::ostringstream form;
+      prm.print_parameters(form, dealii::ParameterHandler::ShortPRM);
+      std::vector<std::string> names;
+      scan_case_text(
+          form.str(), [&](const unsigned int, const std::string &line, const OpenSections &open) {
+            if (starts_with_keyword(line, "set "))
+              names.push_back(section_path(open) + words(line.substr(4, line.find('=') - 4)));
+            else if (starts_with_keyword(line, "subsection "))
+              names.push_back(section_path(open) + words(line.substr(11)) + "/");
+          });
+      return names;
+    }
+
+    /// Edit distance of a and b, letters compared without case (a wrong case costs 1 / 4).
+    double
+    edit_distance(const std::string &a, const std::string &b)
+    {
+      std::vector<double> row(b.size() + 1);
+      for (std::size_t j = 0; j <= b.size(); ++j)
+        row[j] = static_cast<double>(j);
+      for (std::size_t i = 1; i <= a.size(); ++i)
+        {
+          double diagonal = row[0];
+          row[0]          = static_cast<double>(i);
+          for (std::size_t j = 1; j <= b.size(); ++j)
+            {
+              const char   x = a[i - 1], y = b[j - 1];
+              const double change = x == y ? 0.
+                                           : (std::tolower(static_cast<unsigned char>(x)) ==
+                                                      std::tolower(static_cast<unsigned char>(y))
+                                                  ? 0.25
+                                                  : 1.);
+              const double next   = std::min({row[j] + 1., row[j - 1] + 1., diagonal + change});
+              diagonal            = row[j];
+              row[j]              = next;
+            }
+        }
+      return row[b.size()];
+    }
+
+    /// " (did you mean 'x'?)" for the declared name in `section` ("Section/", "" at the top level)
+    /// nearest to `name`, an entry or (subsection = true) a subsection, if it is within a third of
+    /// the name's length; else, if `name` is an entry of another subsection, where.
+    std::string
+    suggestion(const dealii::ParameterHandler &prm, const std::string &section,
+               const std::string &name, const bool subsection)
+    {
+      const std::vector<std::string> names = declared_names(prm);
+      std::string                    best;
+      double best_distance = std::max(1., static_cast<double>(name.size()) / 3.);
+      for (const std::string &full : names)
+        if (full.rfind(section, 0) == 0 && (full.back() == '/') == subsection)
+          {
+            const std::string candidate =
+                full.substr(section.size(), full.size() - section.size() - (subsection ? 1 : 0));
+            if (candidate.find('/') != std::string::npos)
+              continue; // deeper down
+            if (const double d = edit_distance(name, candidate); d <= best_distance)
+              {
+                best          = candidate;
+                best_distance = d;
+              }
+          }
+      if (!best.empty())
+        return " (did you mean '" + best + "'?)";
+      std::string elsewhere;
+      if (!subsection)
+        for (const std::string &full : names)
+          if (const auto slash = full.rfind('/');
+              full.back() != '/' && slash != std::string::npos && full.substr(slash + 1) == name)
+            elsewhere +=
+                (elsewhere.empty() ? "" : ", ") + std::string("'") + full.substr(0, slash) + "'";
+      return elsewhere.empty() ? std::string()
+                               : " ('" + name + "' is an entry of " + elsewhere + ")";
+    }
+
+    /// readable()'s message for an unknown entry or subsection, with the subsection it is in and
+    /// the declared name it is nearest to.
+    std::string
+    unknown_name_message(const std::string &message, const std::string &text,
+                         const dealii::ParameterHandler &prm)
+    {
+      std::smatch m;
+      if (std::regex_search(message, m,
+                            std::regex(R"(^line (\d+): unknown entry '(.*)' in its subsection$)")))
+        {
+          const std::string section = section_at_line(text, std::stoul(m[1]));
+          return "line " + std::string(m[1]) + ": unknown entry '" + std::string(m[2]) + "' " +
+                 (section.empty()
+                      ? std::string("at the top level")
+                      : "in subsection '" + section.substr(0, section.size() - 1) + "'") +
+                 suggestion(prm, section, m[2], false);
+        }
+      if (std::regex_search(message, m, std::regex(R"(^line (\d+): unknown subsection '(.*)'$)")))
+        {
+          const std::string path    = m[2];
+          const auto        slash   = path.rfind('/');
+          const std::string section = slash == std::string::npos ? "" : path.substr(0, slash + 1);
+          return message + suggestion(prm, section, path.substr(section.size()), true);
+        }
+      return message;
     }
   } // namespace
 
@@ -329,8 +492,10 @@ namespace granflow
       }
     const std::string model = trim(prm.get("Model"));
     if (model.empty())
-      throw InputError(case_file, "Model", "missing: the case file must say 'set Model = dp' (see "
-                                           "`granflow print-parameters dp`)");
+      throw InputError(case_file, "Model",
+                       "missing: the case file must name its model, e.g. 'set Model = dp' "
+                       "(`granflow --help` lists the models; `granflow print-parameters MODEL` "
+                       "writes a case file with every entry)");
     return model;
   }
 
@@ -348,7 +513,7 @@ namespace granflow
       }
     catch (const dealii::ExceptionBase &e)
       {
-        const std::string message = readable(one_line(e));
+        const std::string message = unknown_name_message(readable(one_line(e)), text, prm);
         const bool        unknown = message.find(": unknown ") != std::string::npos;
         throw InputError(case_file + ": " + message +
                          (unknown ? entries_hint(prm) : std::string()));
@@ -371,7 +536,18 @@ namespace granflow
           throw InputError("--set " + o.path + "=" + o.value + ": empty entry name");
         try
           {
-            at_entry(prm, path, [&](const std::string &key) { prm.set(key, o.value); });
+            // A file name given on the command line is relative to the working directory (the
+            // case file's to its own directory, above); made absolute, so that messages and the
+            // parameters.prm a run writes say where it is.
+            const bool is_path =
+                std::any_of(path_entries.begin(), path_entries.end(),
+                            [&](const std::string &e) { return split_list(e, '/') == path; });
+            const std::string value =
+                is_path && !trim(o.value).empty() &&
+                        std::filesystem::path(trim(o.value)).is_relative()
+                    ? std::filesystem::absolute(trim(o.value)).lexically_normal().string()
+                    : o.value;
+            at_entry(prm, path, [&](const std::string &key) { prm.set(key, value); });
           }
         catch (const dealii::ExceptionBase &e)
           {

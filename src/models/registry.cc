@@ -121,6 +121,13 @@ namespace granflow
   run_case(const RunRequest &request)
   {
     const std::string name = read_model_name(request.case_file);
+    for (const Override &o : request.overrides)
+      if (split_list(o.path, '/') == std::vector<std::string>{"Model"} && trim(o.value) != name)
+        throw InputError("--set " + o.path + "=" + o.value +
+                         ": the model is the case file's (set Model = " + name +
+                         "), and the entries of one model are not another's: expected a case "
+                         "file of that model (`granflow print-parameters " +
+                         trim(o.value) + "` writes one)");
     for (const auto &m : models())
       if (m.name == name)
         try

@@ -15,7 +15,8 @@ check help-lists-ngf 0 "ngf   nonlocal granular fluidity" "$GRANFLOW" --help
 check version 0 "granflow 0." "$GRANFLOW" --version
 check print-parameters 0 "set mu" "$GRANFLOW" print-parameters dp
 check list-cases 0 "bingham_poiseuille.prm" "$GRANFLOW" list-cases
-check unknown-model 2 "unknown model" "$GRANFLOW" print-parameters nosuchmodel
+check unknown-model 2 "granflow: error: print-parameters: unknown model 'nosuchmodel': expected one of dp, ngf" \
+  "$GRANFLOW" print-parameters nosuchmodel
 check unknown-command 2 "unknown command" "$GRANFLOW" frobnicate
 
 # A run writes the output directory a user opens.
@@ -188,11 +189,38 @@ bad() { check "$1" 2 "$2" "$GRANFLOW" run "$case_file" --output keep --quiet "${
 printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n  set frobnication = 3\nend\n' >unknown_key.prm
 check unknown-key 2 "frobnication" "$GRANFLOW" run unknown_key.prm --output keep --quiet
 check unknown-key-names-file 2 "unknown_key.prm" "$GRANFLOW" run unknown_key.prm --output keep --quiet
-check unknown-key-says-where-to-look 2 "line 4: unknown entry 'frobnication' in its subsection (\`granflow print-parameters dp\`" \
+check unknown-key-says-where-to-look 2 "line 4: unknown entry 'frobnication' in subsection 'Rheology' (\`granflow print-parameters dp\`" \
   "$GRANFLOW" run unknown_key.prm --output keep --quiet
+# A typo is answered with the nearest entry of its subsection (a wrong case counts little), an
+# entry of another subsection with where it is.
+printf 'set Model = dp\nsubsection Rheology\n  set Mu = 0.5\nend\n' >typo_key.prm
+check unknown-key-nearest 2 "line 3: unknown entry 'Mu' in subsection 'Rheology' (did you mean 'mu'?)" \
+  "$GRANFLOW" run typo_key.prm --output keep --quiet
+printf 'set Model = dp\nsubsection Solver\n  set mu = 0.5\nend\n' >misplaced_key.prm
+check unknown-key-elsewhere 2 "line 3: unknown entry 'mu' in subsection 'Solver' ('mu' is an entry of 'Rheology')" \
+  "$GRANFLOW" run misplaced_key.prm --output keep --quiet
+printf 'set Model = dp\nset mu = 0.5\n' >top_key.prm
+check unknown-key-top-level 2 "line 2: unknown entry 'mu' at the top level ('mu' is an entry of 'Rheology')" \
+  "$GRANFLOW" run top_key.prm --output keep --quiet
 printf 'set Model = dp\nsubsection Rheolog\n  set mu = 0.5\nend\n' >unknown_subsection.prm
-check unknown-subsection 2 "unknown_subsection.prm: line 2: unknown subsection 'Rheolog'" "$GRANFLOW" run \
-  unknown_subsection.prm --output keep --quiet
+check unknown-subsection 2 "unknown_subsection.prm: line 2: unknown subsection 'Rheolog' (did you mean 'Rheology'?)" \
+  "$GRANFLOW" run unknown_subsection.prm --output keep --quiet
+# A line without 'set' (deal.II's own message, in its own words, was all a user got).
+printf 'set Model = dp\nsubsection Rheology\n  mu = 0.5\nend\n' >no_set.prm
+check line-without-set 2 "no_set.prm: line 3: 'mu = 0.5' is not a case-file line: expected 'set mu = 0.5'" \
+  "$GRANFLOW" run no_set.prm --output keep --quiet
+check case-file-is-a-directory 2 "mycase: cannot open the case file (it is a directory)" \
+  "$GRANFLOW" run mycase --output keep --quiet
+printf '# nothing\n' >no_model.prm
+check model-missing 2 "entry 'Model': missing: the case file must name its model, e.g. 'set Model = dp'" \
+  "$GRANFLOW" run no_model.prm --output keep --quiet
+check set-model 2 "--set Model=ngf: the model is the case file's (set Model = dp)" \
+  "$GRANFLOW" run "$case_file" --output keep --quiet --set "Model=ngf"
+# An entry name with a space, unquoted on the command line, arrives as two arguments.
+check set-unquoted-space 2 "quote an entry whose name has a space: --set 'Solver/Stress element=P1'" \
+  "$GRANFLOW" run "$case_file" --output keep --quiet --set Solver/Stress element=P1
+check run-help 0 "granflow run CASE.prm" "$GRANFLOW" run --help
+check no-command 2 "granflow: error: missing command: expected run, print-parameters" "$GRANFLOW"
 # A subsection left open (deal.II's message had no line) and an entry set twice (deal.II kept the
 # last value without a word).
 printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n' >unclosed.prm
@@ -224,6 +252,10 @@ bad Re-negative "Re" --set "Rheology/Re=-2"
 bad mesh-size-zero "Geometry/Mesh size" --set "Geometry/Mesh size=0"
 bad mesh-size-negative "Mesh size" --set "Geometry/Mesh size=-0.1"
 bad missing-mesh-file "no_such_mesh.msh" --set "Geometry/Shape=file" --set "Geometry/Mesh file=no_such_mesh.msh"
+# ... named with the directory it was looked for in: a --set file name is relative to the working
+# directory (a case file's to the case file's).
+bad missing-mesh-file-says-where "cannot read the mesh file '$PWD/no_such_mesh.msh'" --set "Geometry/Shape=file" \
+  --set "Geometry/Mesh file=no_such_mesh.msh"
 bad missing-boundary "lid" --set "Boundary conditions/No-slip=bottom, lid"
 bad interior-point-needs-mu-or-Bi "Solver/Method': = interior point needs Rheology/mu > 0 or Rheology/Bi > 0" --set "Solver/Method=interior point" \
   --set "Rheology/Bi=0"
@@ -564,16 +596,18 @@ for f in out/profiles/velocity.csv ngf_out/profiles/velocity.csv ngf_out/profile
   else fail "plot $f"; fi
   rm -f plot.png
 done
-# --loglog on a results CSV with text columns; a column without numbers
-# and a file that is neither CSV nor VTU get one message and exit status 1.
+# --loglog on a results CSV with text columns; a column without numbers, a file that is neither CSV
+# nor VTU and a field the VTU lacks get one message and exit status 2, as bad input.
 if "$SOURCE_DIR/scripts/plot" "$SOURCE_DIR/docs/results/henann2016/linear_shear_rate.csv" --loglog \
   v_wall_over_sqrt_Gd W_over_d -o plot.png >/dev/null 2>&1 && [ -s plot.png ]; then pass "plot --loglog"
 else fail "plot --loglog"; fi
 rm -f plot.png
-check plot-text-column 1 "has no numbers in column 'note'" "$SOURCE_DIR/scripts/plot" \
+check plot-text-column 2 "has no numbers in column 'note'" "$SOURCE_DIR/scripts/plot" \
   "$SOURCE_DIR/docs/results/henann2016/linear_shear_rate.csv" --loglog v_wall_over_sqrt_Gd note -o plot.png
-check plot-not-csv 1 "is neither a profile or data CSV nor a VTU" "$SOURCE_DIR/scripts/plot" \
+check plot-not-csv 2 "is neither a profile or data CSV nor a VTU" "$SOURCE_DIR/scripts/plot" \
   ngf_out/summary.json
+check plot-unknown-field 2 "has no point field 'presure'; it has:" "$SOURCE_DIR/scripts/plot" \
+  ngf_out/solution-0000.vtu presure -o plot.png
 # W / d is reported with a warning where the band is narrower than an element (the local model)
 # or confined by the far wall (a shallow bed at a fast wall).
 check ngf-band-narrower-than-an-element 0 "warning: the shear band is narrower than one element" \

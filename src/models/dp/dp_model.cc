@@ -165,7 +165,8 @@ namespace granflow::dp::detail
         ++viscosity_iterations;
         std::ostringstream s;
         s << "  solve " << viscosity_iterations << ": " << stats.outer_iterations
-          << (interior_point ? " interior-point" : " fixed-point") << " iterations, residual "
+          << (interior_point ? " interior-point" : " fixed-point")
+          << (stats.outer_iterations == 1 ? " iteration" : " iterations") << ", residual "
           << stats.residual << ", " << stats.time_solve << " s";
         if (!stats.converged || !bagnold)
           {
