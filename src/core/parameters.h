@@ -7,6 +7,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <filesystem>
 #include <limits>
 #include <memory>
 #include <string>
@@ -76,6 +77,10 @@ namespace granflow
   rethrow_naming_overrides(const InputError &e, const std::string &case_file,
                            const std::vector<Override> &overrides);
 
+  /// `s` without leading and trailing blanks (spaces, tabs, line ends).
+  std::string
+  trim(const std::string &s);
+
   /// Declares the entries of a model's Parameters in `prm` (declare(prm)), parses `case_file` with
   /// the overrides and validates (validate()); InputError on bad input.
   template <typename ModelParameters>
@@ -85,6 +90,10 @@ namespace granflow
   {
     parameters.declare(prm);
     parse_case_file(prm, case_file, overrides, ModelParameters::path_entries());
+    // Every model has a top-level Name: by default the case file's name, as the default output
+    // directory is. Set in prm, so that the parameters.prm a run writes keeps it.
+    if (trim(prm.get("Name")).empty())
+      prm.set("Name", std::filesystem::path(case_file).stem().string());
     parameters.case_file = case_file;
     parameters.validate();
   }
@@ -99,10 +108,6 @@ namespace granflow
     read_case(parameters, prm, case_file, overrides);
     return parameters;
   }
-
-  /// `s` without leading and trailing blanks (spaces, tabs, line ends).
-  std::string
-  trim(const std::string &s);
 
   /// Splits "a, b, c" into trimmed non-empty items.
   std::vector<std::string>

@@ -66,6 +66,11 @@ check readme-hopper-example 0 "Results in hopper_out" "$GRANFLOW" run readme_hop
 if /usr/bin/python3 -c "import json,sys; s=json.load(open('hopper_out/summary.json')); sys.exit(0 if s['converged'] and abs(s['volume_outflow']['outlet'] / 0.0546 - 1) < 0.02 else 1)"; then
   pass "readme-hopper-converges-to-its-discharge"
 else fail "readme-hopper-converges-to-its-discharge"; grep -A4 '"residual"\|"outlet"' hopper_out/summary.json; fi
+# Without a Name the case is named by its file, as its default output directory is; parameters.prm
+# keeps the name, so that a rerun of it from DIR is the same case.
+if grep -q '"case": "hopper"' hopper_out/summary.json && grep -qE '^set Name *= hopper( |$)' hopper_out/parameters.prm; then
+  pass "default-name-is-the-case-file's"
+else fail "default-name-is-the-case-file's"; grep '"case"' hopper_out/summary.json; grep 'Name' hopper_out/parameters.prm; fi
 
 # The README says that the hopper refined to h = 0.15 stalls (exit 3, the iterate of least residual
 # written): the stall names what may help, P2-P1 among them, with which it converges

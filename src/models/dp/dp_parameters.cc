@@ -28,7 +28,10 @@ namespace granflow::dp
   {
     prm.add_parameter("Model", model, "Model of this case file: dp (Daviet 2016).",
                       Selection("dp"));
-    prm.add_parameter("Name", name, "Name of the case, used in summary.json.", Anything());
+    prm.add_parameter("Name", name,
+                      "Name of the case, used in summary.json (empty: the case file's name "
+                      "without .prm).",
+                      Anything());
     prm.add_parameter(
         "Gravity direction", gravity_direction,
         "Direction e_g of the dimensionless body force (23), 'x, y' (finite, not both "

@@ -97,7 +97,7 @@ namespace granflow::dp
   {
     std::string          case_file;
     std::string          model = "dp";
-    std::string          name  = "dp";
+    std::string          name  = ""; // Name; read_case() makes an empty one the case file's name
     GeometryParameters   geometry;
     RheologyParameters   rheology;
     std::string          gravity_direction = "0, -1"; // e_g (unit vector after normalisation)

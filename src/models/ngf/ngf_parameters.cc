@@ -22,7 +22,10 @@ namespace granflow::ngf
   {
     prm.add_parameter("Model", model, "Model of this case file: ngf (Henann & Kamrin 2016).",
                       Selection("ngf"));
-    prm.add_parameter("Name", name, "Name of the case, used in summary.json.", Anything());
+    prm.add_parameter("Name", name,
+                      "Name of the case, used in summary.json (empty: the case file's name "
+                      "without .prm).",
+                      Anything());
 
     prm.enter_subsection("Material");
     {

@@ -83,7 +83,7 @@ namespace granflow::ngf
   {
     std::string                case_file;
     std::string                model = "ngf";
-    std::string                name  = "ngf";
+    std::string name = ""; // Name; read_case() makes an empty one the case file's name
     MaterialParameters         material;
     GeometryParameters         geometry;
     LoadingParameters          loading;
