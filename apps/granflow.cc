@@ -103,21 +103,30 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
         const std::string &a = args[i];
         if ((a == "--set" || a == "--output") && i + 1 == args.size())
           throw granflow::InputError(a + ": missing value");
-        if (a == "--set")
+        if (a == "--set" || a.rfind("--set=", 0) == 0)
           {
-            // An entry name with a space, unquoted, reaches us in two arguments: "--set
-            // Solver/Stress element=P1" gives "Solver/Stress" and "element=P1".
-            const std::string &value = args[++i];
-            if (value.find('=') == std::string::npos && i + 1 < args.size() &&
-                args[i + 1].rfind("--", 0) != 0 && args[i + 1].find('=') != std::string::npos)
-              throw granflow::InputError("--set " + value + " " + args[i + 1] +
-                                         ": expected Section/key=value as one argument (quote "
-                                         "an entry whose name has a space: --set '" +
-                                         value + " " + args[i + 1] + "')");
+            std::string value = a == "--set" ? args[++i] : a.substr(6);
+            // An entry name with blanks, unquoted, reaches us in pieces: "--set Solver/Max outer
+            // iterations=5" gives "Solver/Max", "outer" and "iterations=5".
+            if (value.find('=') == std::string::npos)
+              {
+                std::size_t last = i + 1;
+                while (last < args.size() && args[last].rfind("--", 0) != 0 &&
+                       args[last].find('=') == std::string::npos)
+                  ++last;
+                if (last < args.size() && args[last].rfind("--", 0) != 0)
+                  {
+                    for (std::size_t piece = i + 1; piece <= last; ++piece)
+                      value += " " + args[piece];
+                    throw granflow::InputError(
+                        "--set " + value +
+                        ": expected Section/key=value as one argument (quote an entry whose name "
+                        "has a blank: --set '" +
+                        value + "')");
+                  }
+              }
             request.overrides.push_back(granflow::parse_override(value));
           }
-        else if (a.rfind("--set=", 0) == 0)
-          request.overrides.push_back(granflow::parse_override(a.substr(6)));
         else if (a == "--output")
           {
             request.output_directory = args[++i];
@@ -192,6 +201,11 @@ main(int argc, char **argv)
     }
   try
     {
+      if (args.size() == 2 && (args[1] == "--help" || args[1] == "-h"))
+        {
+          print_usage(std::cout); // for every command, as for run's options
+          return 0;
+        }
       if (args[0] == "run")
         return run({args.begin() + 1, args.end()});
       if (args[0] == "list-cases")

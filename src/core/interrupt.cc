@@ -55,7 +55,7 @@ namespace granflow::interrupt
       say(signal == SIGINT ? "\ngranflow: stopping at the next iteration; what has been computed "
                              "will be written (Ctrl-C again to quit at once)\n"
                            : "\ngranflow: stopping at the next iteration; what has been computed "
-                             "will be written (a second signal quits at once)\n");
+                             "will be written (a second SIGTERM quits at once)\n");
     }
   } // namespace
 

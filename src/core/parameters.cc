@@ -53,6 +53,20 @@ namespace granflow
       return out;
     }
 
+    std::string
+    upper_case(std::string text)
+    {
+      std::transform(text.begin(), text.end(), text.begin(), ::toupper);
+      return text;
+    }
+
+    std::string
+    lower_case(std::string text)
+    {
+      std::transform(text.begin(), text.end(), text.begin(), ::tolower);
+      return text;
+    }
+
     /// A deal.II pattern description in words: "[Double 0...MAX_DOUBLE (inclusive)]" -> "a number
     /// in [0, inf)", "[Selection a|b ]" -> "one of 'a', 'b'", "[Double > 0]" -> "a number > 0".
     std::string
@@ -132,14 +146,31 @@ namespace granflow
                "' in its subsection";
       if (std::regex_search(
               message, m,
+              std::regex(
+                  R"(Line <(\d+)> of file <[^>]*>: Invalid format of 'set' or 'SET' statement)")))
+        return "line " + std::string(m[1]) +
+               ": a 'set' line without '=': expected 'set key = value'";
+      if (std::regex_search(
+              message, m,
               std::regex(R"(Line <(\d+)> of file <[^>]*>: The line <(.*)> could not be parsed)")))
         {
-          const std::string line = m[2];
+          const std::string line  = m[2];
+          const auto        equal = line.find('=');
+          std::string       first_word;
+          std::istringstream(line) >> first_word;
+          const std::string lower = lower_case(first_word);
+          const bool        keyword =
+              lower == "set" || lower == "subsection" || lower == "end" || lower == "include";
+          // (a keyword in mixed case, 'Set': deal.II knows only 'set' and 'SET')
+          const std::string expected =
+              keyword ? "'" + lower + "' or '" + upper_case(lower) + "', not '" + first_word + "'"
+              : equal != std::string::npos && !trim(line.substr(0, equal)).empty()
+                  ? "'set " + line + "'"
+                  : std::string("one of four forms");
           return "line " + std::string(m[1]) + ": '" + line +
-                 "' is not a case-file line: expected " +
-                 (line.find('=') != std::string::npos ? "'set " + line + "' (" : std::string("(")) +
-                 "each line sets an entry, opens or ends a subsection, or is a comment: 'set key = "
-                 "value', 'subsection Name', 'end', '# ...')";
+                 "' is not a case-file line: expected " + expected +
+                 " (each line sets an entry, opens or ends a subsection, or is a comment: 'set key "
+                 "= value', 'subsection Name', 'end', '# ...')";
         }
       if (std::regex_search(
               message, m,
@@ -165,12 +196,13 @@ namespace granflow
     void
     require_readable(const std::string &file)
     {
-      if (!std::filesystem::is_regular_file(file) || !std::ifstream(file))
-        throw InputError(
-            file + ": cannot open the case file (" +
-            (std::filesystem::is_directory(file) ? "it is a directory" : "no such readable file") +
-            "): expected a case file such as cases/daviet2016/cylinder.prm "
-            "(`granflow list-cases` lists them)");
+      std::error_code error; // (a name too long for the system is no such file)
+      if (!std::filesystem::is_regular_file(file, error) || !std::ifstream(file))
+        throw InputError(file + ": cannot open the case file (" +
+                         (std::filesystem::is_directory(file, error) ? "it is a directory"
+                                                                     : "no such readable file") +
+                         "): expected a case file such as cases/daviet2016/cylinder.prm "
+                         "(`granflow list-cases` lists them)");
     }
 
     /// The case file's text without a UTF-8 byte-order mark, which some editors write and
@@ -208,9 +240,7 @@ namespace granflow
     bool
     starts_with_keyword(const std::string &text, const std::string &keyword)
     {
-      std::string upper = keyword;
-      std::transform(upper.begin(), upper.end(), upper.begin(), ::toupper);
-      return text.rfind(keyword, 0) == 0 || text.rfind(upper, 0) == 0;
+      return text.rfind(keyword, 0) == 0 || text.rfind(upper_case(keyword), 0) == 0;
     }
 
     /// Trimmed, inner blanks collapsed.
@@ -229,7 +259,8 @@ namespace granflow
 
     /// Reads a case file's text as ParameterHandler does and calls visit(first, line, open) for
     /// each logical line: `first` is its first physical line (a trailing backslash continues a
-    /// line, even a comment: ParameterHandler joins the lines first and strips comments after),
+    /// line, even a comment: ParameterHandler trims the lines, joins them without a blank and
+    /// strips comments after),
     /// `line` is without its comment, trimmed and with its blanks collapsed, and `open` are the
     /// subsections open before it. Returns those left open at the end.
     template <typename Visit>
@@ -245,10 +276,10 @@ namespace granflow
           ++number;
           if (logical.empty())
             first = number;
-          line.erase(line.find_last_not_of(" \t\r") + 1);
+          line = trim(line); // ParameterHandler trims every physical line, then joins them
           if (!line.empty() && line.back() == '\\')
             {
-              logical += line.substr(0, line.size() - 1) + " ";
+              logical += line.substr(0, line.size() - 1);
               continue;
             }
           line = logical + line;
@@ -359,40 +390,61 @@ namespace granflow
       return row[b.size()];
     }
 
-    /// " (did you mean 'x'?)" for the declared name in `section` ("Section/", "" at the top level)
-    /// nearest to `name`, an entry or (subsection = true) a subsection, if it is within a third of
-    /// the name's length; else, if `name` is an entry of another subsection, where.
+    /// " (did you mean 'x'?)" for the declared names in `section` ("Section/", "" at the top level)
+    /// nearest to `name`, entries or (subsection = true) subsections, if within a third of the
+    /// name's length (at least 0.5: a short name matches only in another case); else, if `name`
+    /// is declared elsewhere, where.
     std::string
     suggestion(const dealii::ParameterHandler &prm, const std::string &section,
                const std::string &name, const bool subsection)
     {
-      const std::vector<std::string> names = declared_names(prm);
-      std::string                    best;
-      double best_distance = std::max(1., static_cast<double>(name.size()) / 3.);
-      for (const std::string &full : names)
-        if (full.rfind(section, 0) == 0 && (full.back() == '/') == subsection)
+      // (section, name) of each declared entry or subsection; "" is the top level
+      std::vector<std::pair<std::string, std::string>> declared;
+      for (const std::string &full : declared_names(prm))
+        if ((full.back() == '/') == subsection)
           {
-            const std::string candidate =
-                full.substr(section.size(), full.size() - section.size() - (subsection ? 1 : 0));
-            if (candidate.find('/') != std::string::npos)
-              continue; // deeper down
-            if (const double d = edit_distance(name, candidate); d <= best_distance)
+            const std::string path  = subsection ? full.substr(0, full.size() - 1) : full;
+            const auto        slash = path.rfind('/');
+            declared.emplace_back(slash == std::string::npos ? "" : path.substr(0, slash + 1),
+                                  path.substr(slash == std::string::npos ? 0 : slash + 1));
+          }
+      std::vector<std::string> best;
+      double                   best_distance = std::max(0.5, static_cast<double>(name.size()) / 3.);
+      for (const auto &[where, candidate] : declared)
+        if (where == section)
+          {
+            const double d = edit_distance(name, candidate);
+            if (d < best_distance)
+              best.clear();
+            if (d <= best_distance)
               {
-                best          = candidate;
+                best.push_back(candidate);
                 best_distance = d;
               }
           }
+      // The message has its blanks collapsed; deal.II compares names as they are written.
+      if (best.size() == 1 && best_distance == 0.)
+        return " (write it with single blanks between its words)";
       if (!best.empty())
-        return " (did you mean '" + best + "'?)";
+        {
+          std::string list;
+          for (std::size_t i = 0; i < best.size(); ++i)
+            list += std::string(i == 0                 ? ""
+                                : i + 1 == best.size() ? " or "
+                                                       : ", ") +
+                    "'" + best[i] + "'";
+          return " (did you mean " + list + "?)";
+        }
       std::string elsewhere;
-      if (!subsection)
-        for (const std::string &full : names)
-          if (const auto slash = full.rfind('/');
-              full.back() != '/' && slash != std::string::npos && full.substr(slash + 1) == name)
-            elsewhere +=
-                (elsewhere.empty() ? "" : ", ") + std::string("'") + full.substr(0, slash) + "'";
-      return elsewhere.empty() ? std::string()
-                               : " ('" + name + "' is an entry of " + elsewhere + ")";
+      for (const auto &[where, candidate] : declared)
+        if (candidate == name && where != section)
+          elsewhere += (elsewhere.empty() ? "" : ", ") +
+                       (where.empty() ? std::string("the top level")
+                                      : "'" + where.substr(0, where.size() - 1) + "'");
+      return elsewhere.empty()
+                 ? std::string()
+                 : " ('" + name + "' is " + (subsection ? "a subsection" : "an entry") + " of " +
+                       elsewhere + ")";
     }
 
     /// readable()'s message for an unknown entry or subsection, with the subsection it is in and
@@ -513,10 +565,19 @@ namespace granflow
       }
     catch (const dealii::ExceptionBase &e)
       {
-        const std::string message = unknown_name_message(readable(one_line(e)), text, prm);
+        // A line of a file the case file includes is that file's: its subsections are not
+        // followed here, and its name leads the message.
+        const std::string raw = one_line(e);
+        std::smatch       in_file;
+        const bool        included =
+            std::regex_search(raw, in_file, std::regex(R"(^Line <\d+> of file <([^>]*)>)")) &&
+            in_file[1] != case_file;
+        const std::string message =
+            included ? readable(raw) : unknown_name_message(readable(raw), text, prm);
         const bool        unknown = message.find(": unknown ") != std::string::npos;
-        throw InputError(case_file + ": " + message +
-                         (unknown ? entries_hint(prm) : std::string()));
+        throw InputError(
+            (included ? std::string(in_file[1]) + " (included by " + case_file + ")" : case_file) +
+            ": " + message + (unknown ? entries_hint(prm) : std::string()));
       }
     const std::filesystem::path case_directory = std::filesystem::path(case_file).parent_path();
     for (const std::string &entry : path_entries)

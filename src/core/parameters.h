@@ -7,6 +7,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <limits>
 #include <memory>
@@ -91,9 +92,15 @@ namespace granflow
     parameters.declare(prm);
     parse_case_file(prm, case_file, overrides, ModelParameters::path_entries());
     // Every model has a top-level Name: by default the case file's name, as the default output
-    // directory is. Set in prm, so that the parameters.prm a run writes keeps it.
+    // directory is. Set in prm, so that the parameters.prm a run writes keeps it; a '#' would
+    // start a comment there and a trailing backslash continue the line.
     if (trim(prm.get("Name")).empty())
-      prm.set("Name", std::filesystem::path(case_file).stem().string());
+      {
+        std::string name = std::filesystem::path(case_file).stem().string();
+        std::replace(name.begin(), name.end(), '#', '_');
+        std::replace(name.begin(), name.end(), '\\', '_');
+        prm.set("Name", name);
+      }
     parameters.case_file = case_file;
     parameters.validate();
   }

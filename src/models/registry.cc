@@ -127,7 +127,8 @@ namespace granflow
                          ": the model is the case file's (set Model = " + name +
                          "), and the entries of one model are not another's: expected a case "
                          "file of that model (`granflow print-parameters " +
-                         trim(o.value) + "` writes one)");
+                         (trim(o.value).empty() ? std::string("MODEL") : trim(o.value)) +
+                         "` writes one)");
     for (const auto &m : models())
       if (m.name == name)
         try

@@ -71,6 +71,12 @@ else fail "readme-hopper-converges-to-its-discharge"; grep -A4 '"residual"\|"out
 if grep -q '"case": "hopper"' hopper_out/summary.json && grep -qE '^set Name *= hopper( |$)' hopper_out/parameters.prm; then
   pass "default-name-is-the-case-file's"
 else fail "default-name-is-the-case-file's"; grep '"case"' hopper_out/summary.json; grep 'Name' hopper_out/parameters.prm; fi
+# ... with a '#', which would start a comment in parameters.prm, replaced.
+sed '/^set Name/d' "$case_file" >'run#2.prm'
+check default-name-without-hash 0 "Results in hash_out" "$GRANFLOW" run 'run#2.prm' --output hash_out --quiet \
+  --set "Output/Write vtu=false"
+if grep -q '"case": "run_2"' hash_out/summary.json; then pass "default name without '#'"
+else fail "default name without '#'"; grep '"case"' hash_out/summary.json; fi
 
 # The README says that the hopper refined to h = 0.15 stalls (exit 3, the iterate of least residual
 # written): the stall names what may help, P2-P1 among them, with which it converges
@@ -214,6 +220,28 @@ check unknown-subsection 2 "unknown_subsection.prm: line 2: unknown subsection '
 printf 'set Model = dp\nsubsection Rheology\n  mu = 0.5\nend\n' >no_set.prm
 check line-without-set 2 "no_set.prm: line 3: 'mu = 0.5' is not a case-file line: expected 'set mu = 0.5'" \
   "$GRANFLOW" run no_set.prm --output keep --quiet
+# ... a keyword in mixed case, a 'set' without '=', an unknown entry of an included file (named
+# as that file's, with its own line), ties between two nearest entries, a top-level entry in a
+# subsection, a name with two blanks between words.
+printf 'set Model = dp\nsubsection Rheology\n  Set mu = 0.5\nend\n' >mixed_case.prm
+check keyword-in-mixed-case 2 "mixed_case.prm: line 3: 'Set mu = 0.5' is not a case-file line: expected 'set' or 'SET', not 'Set'" \
+  "$GRANFLOW" run mixed_case.prm --output keep --quiet
+printf 'set Model = dp\nsubsection Rheology\n  set mu 0.5\nend\n' >set_without_equal.prm
+check set-without-equal 2 "set_without_equal.prm: line 3: a 'set' line without '=': expected 'set key = value'" \
+  "$GRANFLOW" run set_without_equal.prm --output keep --quiet
+printf 'subsection Rheology\n  set frob = 1\nend\n' >included_part.prm
+printf 'set Model = dp\ninclude included_part.prm\n' >including.prm
+check unknown-key-in-included-file 2 "included_part.prm (included by including.prm): line 2: unknown entry 'frob'" \
+  "$GRANFLOW" run including.prm --output keep --quiet
+printf 'set Model = dp\nsubsection Boundary conditions\n  set Zero z-velocity = a\nend\n' >tie.prm
+check unknown-key-ties 2 "(did you mean 'Zero x-velocity' or 'Zero y-velocity'?)" \
+  "$GRANFLOW" run tie.prm --output keep --quiet
+printf 'set Model = dp\nsubsection Output\n  set Name = x\nend\n' >top_in_section.prm
+check top-level-entry-in-a-subsection 2 "unknown entry 'Name' in subsection 'Output' ('Name' is an entry of the top level)" \
+  "$GRANFLOW" run top_in_section.prm --output keep --quiet
+printf 'set Model = dp\nsubsection Boundary  conditions\nend\n' >two_blanks.prm
+check name-with-two-blanks 2 "(write it with single blanks between its words)" \
+  "$GRANFLOW" run two_blanks.prm --output keep --quiet
 check case-file-is-a-directory 2 "mycase: cannot open the case file (it is a directory)" \
   "$GRANFLOW" run mycase --output keep --quiet
 printf '# nothing\n' >no_model.prm
@@ -222,9 +250,12 @@ check model-missing 2 "entry 'Model': missing: the case file must name its model
 check set-model 2 "--set Model=ngf: the model is the case file's (set Model = dp)" \
   "$GRANFLOW" run "$case_file" --output keep --quiet --set "Model=ngf"
 # An entry name with a space, unquoted on the command line, arrives as two arguments.
-check set-unquoted-space 2 "quote an entry whose name has a space: --set 'Solver/Stress element=P1'" \
+check set-unquoted-space 2 "quote an entry whose name has a blank: --set 'Solver/Stress element=P1'" \
   "$GRANFLOW" run "$case_file" --output keep --quiet --set Solver/Stress element=P1
+check set-unquoted-blanks 2 "quote an entry whose name has a blank: --set 'Solver/Max outer iterations=5'" \
+  "$GRANFLOW" run "$case_file" --output keep --quiet --set Solver/Max outer iterations=5
 check run-help 0 "granflow run CASE.prm" "$GRANFLOW" run --help
+check print-parameters-help 0 "granflow print-parameters MODEL" "$GRANFLOW" print-parameters --help
 check no-command 2 "granflow: error: missing command: expected run, print-parameters" "$GRANFLOW"
 # A subsection left open (deal.II's message had no line) and an entry set twice (deal.II kept the
 # last value without a word).

@@ -266,14 +266,15 @@ namespace granflow::dp::detail
   Problem::solver_failure(const solvers::ConeSolverStats &stats, const bool interior_point) const
   {
     std::ostringstream s;
+    const std::string  iterations = std::to_string(stats.outer_iterations) +
+                                   (stats.outer_iterations == 1 ? " iteration" : " iterations");
     s << "the " << (interior_point ? "interior-point method" : "Cadoux fixed point");
     if (stats.interrupted)
       s << " was stopped by " << interrupt::signal_name() << " at residual " << stats.residual
-        << " (tolerance " << prm.solver.tolerance << ") after " << stats.outer_iterations
-        << " iterations. ";
+        << " (tolerance " << prm.solver.tolerance << ") after " << iterations << ". ";
     else if (stats.stalled)
       s << " stalled at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
-        << ") after " << stats.outer_iterations << " iterations: " << stats.stall_reason
+        << ") after " << iterations << ": " << stats.stall_reason
         << " (docs/solvers.md), which higher limits do not change; a looser "
            "Solver/Tolerance, another mesh, "
         << (p1d ? "Solver/Stress element = P1 (slower per iteration; docs/dp.md#solver-limits) "
@@ -281,12 +282,12 @@ namespace granflow::dp::detail
         << "or Solver/Method = fixed point may. ";
     else if (stats.timed_out)
       s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds << " at residual "
-        << stats.residual << " (tolerance " << prm.solver.tolerance << ") after "
-        << stats.outer_iterations << " iterations. ";
+        << stats.residual << " (tolerance " << prm.solver.tolerance << ") after " << iterations
+        << ". ";
     else
       {
         s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
-          << stats.residual << " after " << stats.outer_iterations << " iterations";
+          << stats.residual << " after " << iterations;
         // A fixed point whose second half of iterations did not halve the least residual
         // of the first oscillates or crawls (the Bagnold layer at tan alpha = 0.7: between
         // 2.5e-5 and 5e-5 for 450 iterations, where the interior point converges in 9 s),
