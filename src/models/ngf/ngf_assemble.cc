@@ -301,27 +301,19 @@ namespace granflow::ngf::detail
     return stats.converged;
   }
 
-  // Each member is instantiated where it is defined, for both element types (ngf_problem.h).
-  template bool
-  Problem<2>::solve_with_jacobian(Vector<double> &dU, const bool factorize);
-  template void
-  Problem<2>::add_boundary_loads(const typename DoFHandler<2>::active_cell_iterator &cell,
-                                 FEFaceValues<2> &face, Vector<double> &r_local) const;
-  template Problem<2>::ResidualNorms
-  Problem<2>::residual_norms() const;
-  template Problem<2>::ResidualNorms
-  Problem<2>::assemble(const double dt, const bool with_jacobian);
-  template bool
-  Problem<2>::newton(const double dt, const unsigned int increment, unsigned int &iterations);
-  template bool
-  Problem<3>::solve_with_jacobian(Vector<double> &dU, const bool factorize);
-  template void
-  Problem<3>::add_boundary_loads(const typename DoFHandler<3>::active_cell_iterator &cell,
-                                 FEFaceValues<3> &face, Vector<double> &r_local) const;
-  template Problem<3>::ResidualNorms
-  Problem<3>::residual_norms() const;
-  template Problem<3>::ResidualNorms
-  Problem<3>::assemble(const double dt, const bool with_jacobian);
-  template bool
-  Problem<3>::newton(const double dt, const unsigned int increment, unsigned int &iterations);
+  // Each member defined here is instantiated here, for both element types (ngf_problem.h).
+#define GRANFLOW_NGF_INSTANTIATE(D)                                                                \
+  template bool Problem<D>::solve_with_jacobian(Vector<double> &dU, const bool factorize);         \
+  template void Problem<D>::add_boundary_loads(                                                    \
+      const typename DoFHandler<D>::active_cell_iterator &cell, FEFaceValues<D> &face,             \
+      Vector<double> &r_local) const;                                                              \
+  template Problem<D>::ResidualNorms Problem<D>::residual_norms() const;                           \
+  template Problem<D>::ResidualNorms Problem<D>::assemble(const double dt,                         \
+                                                          const bool   with_jacobian);               \
+  template bool Problem<D>::newton(const double dt, const unsigned int increment,                  \
+                                   unsigned int &iterations);
+
+  GRANFLOW_NGF_INSTANTIATE(2)
+  GRANFLOW_NGF_INSTANTIATE(3)
+#undef GRANFLOW_NGF_INSTANTIATE
 } // namespace granflow::ngf::detail

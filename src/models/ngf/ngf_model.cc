@@ -702,87 +702,36 @@ namespace granflow::ngf::detail
     return spread;
   }
 
-  // Each member is instantiated where it is defined, for both element types (ngf_problem.h).
-  template double
-  Problem<2>::wall_stress_ratio() const;
-  template Vector<double>
-  Problem<2>::velocity(const double dt) const;
-  template double
-  Problem<2>::steady_window() const;
-  template Problem<2>::RunState
-  Problem<2>::march();
-  template nlohmann::json
-  Problem<2>::describe_run(const RunState &s) const;
-  template std::pair<nlohmann::json, std::string>
-  Problem<2>::judge_steadiness(const RunState &s) const;
-  template void
-  Problem<2>::warn_about_run(const RunState &s, const bool steady,
-                             const std::string &why_not_steady);
-  template void
-  Problem<2>::warn_if_below_mu_s(const double mu_wall);
-  template void
-  Problem<2>::report_distortion(nlohmann::json &summary);
-  template Results
-  Problem<2>::run();
-  template double
-  Problem<2>::elastic_strain_scale() const;
-  template bool
-  Problem<2>::outside_elastic_range() const;
-  template void
-  Problem<2>::warn_if_outside_elastic_range();
-  template void
-  Problem<2>::predict(const Vector<double> &rate, const double dt);
-  template std::string
-  Problem<2>::newton_failure(const bool loading, const double dt, const double du,
-                             const double u_wall) const;
-  template Vector<double>
-  Problem<2>::increment_rate(const double dt) const;
-  template Vector<double>
-  Problem<2>::steady_velocity(const Vector<double> &v, const Vector<double> &rate) const;
-  template double
-  Problem<2>::wall_parallel_speed(const types::global_dof_index i, const Vector<double> &v) const;
-  template double
-  Problem<2>::volume_change_spread() const;
-  template double
-  Problem<3>::wall_stress_ratio() const;
-  template Vector<double>
-  Problem<3>::velocity(const double dt) const;
-  template double
-  Problem<3>::steady_window() const;
-  template Problem<3>::RunState
-  Problem<3>::march();
-  template nlohmann::json
-  Problem<3>::describe_run(const RunState &s) const;
-  template std::pair<nlohmann::json, std::string>
-  Problem<3>::judge_steadiness(const RunState &s) const;
-  template void
-  Problem<3>::warn_about_run(const RunState &s, const bool steady,
-                             const std::string &why_not_steady);
-  template void
-  Problem<3>::warn_if_below_mu_s(const double mu_wall);
-  template void
-  Problem<3>::report_distortion(nlohmann::json &summary);
-  template Results
-  Problem<3>::run();
-  template double
-  Problem<3>::elastic_strain_scale() const;
-  template bool
-  Problem<3>::outside_elastic_range() const;
-  template void
-  Problem<3>::warn_if_outside_elastic_range();
-  template void
-  Problem<3>::predict(const Vector<double> &rate, const double dt);
-  template std::string
-  Problem<3>::newton_failure(const bool loading, const double dt, const double du,
-                             const double u_wall) const;
-  template Vector<double>
-  Problem<3>::increment_rate(const double dt) const;
-  template Vector<double>
-  Problem<3>::steady_velocity(const Vector<double> &v, const Vector<double> &rate) const;
-  template double
-  Problem<3>::wall_parallel_speed(const types::global_dof_index i, const Vector<double> &v) const;
-  template double
-  Problem<3>::volume_change_spread() const;
+  // Each member defined here is instantiated here, for both element types (ngf_problem.h).
+#define GRANFLOW_NGF_INSTANTIATE(D)                                                                  \
+  template double                                 Problem<D>::wall_stress_ratio() const;             \
+  template Vector<double>                         Problem<D>::velocity(const double dt) const;       \
+  template double                                 Problem<D>::steady_window() const;                 \
+  template Problem<D>::RunState                   Problem<D>::march();                               \
+  template nlohmann::json                         Problem<D>::describe_run(const RunState &s) const; \
+  template std::pair<nlohmann::json, std::string> Problem<D>::judge_steadiness(const RunState &s)    \
+      const;                                                                                         \
+  template void           Problem<D>::warn_about_run(const RunState &s, const bool steady,           \
+                                                     const std::string &why_not_steady);             \
+  template void           Problem<D>::warn_if_below_mu_s(const double mu_wall);                      \
+  template void           Problem<D>::report_distortion(nlohmann::json &summary);                    \
+  template Results        Problem<D>::run();                                                         \
+  template double         Problem<D>::elastic_strain_scale() const;                                  \
+  template bool           Problem<D>::outside_elastic_range() const;                                 \
+  template void           Problem<D>::warn_if_outside_elastic_range();                               \
+  template void           Problem<D>::predict(const Vector<double> &rate, const double dt);          \
+  template std::string    Problem<D>::newton_failure(const bool loading, const double dt,            \
+                                                     const double du, const double u_wall) const;    \
+  template Vector<double> Problem<D>::increment_rate(const double dt) const;                         \
+  template Vector<double> Problem<D>::steady_velocity(const Vector<double> &v,                       \
+                                                      const Vector<double> &rate) const;             \
+  template double         Problem<D>::wall_parallel_speed(const types::global_dof_index i,           \
+                                                          const Vector<double>         &v) const;            \
+  template double         Problem<D>::volume_change_spread() const;
+
+  GRANFLOW_NGF_INSTANTIATE(2)
+  GRANFLOW_NGF_INSTANTIATE(3)
+#undef GRANFLOW_NGF_INSTANTIATE
 } // namespace granflow::ngf::detail
 
 namespace granflow::ngf

@@ -536,73 +536,36 @@ namespace granflow::ngf::detail
     out.write_solution(data_out);
   }
 
-  // Each member is instantiated where it is defined, for both element types (ngf_problem.h).
-  template void
-  Problem<2>::write_histories(const std::vector<double> &wall_displacement,
-                              const std::vector<double> &mu_wall,
-                              const std::vector<double> &newton_iterations);
-  template void
-  Problem<2>::compute_reference();
-  template Problem<2>::WallProfile
-  Problem<2>::wall_profile(const Vector<double> &v, const double level) const;
-  template Problem<2>::WallProfile
-  Problem<2>::profile_at_depth(const Vector<double> &v, const double depth) const;
-  template void
-  Problem<2>::write_profiles_at_depths(nlohmann::json &summary, const Vector<double> &v,
-                                       const std::vector<std::string> &header);
-  template double
-  Problem<2>::g_unit() const;
-  template double
-  Problem<2>::judge_band(nlohmann::json &summary, const WallProfile &profile, const bool finished);
-  template std::vector<double>
-  Problem<2>::compare_with_reference(nlohmann::json &summary, const WallProfile &profile,
-                                     const double W) const;
-  template void
-  Problem<2>::report_wall_pressure(nlohmann::json &summary, const std::vector<double> &xc,
-                                   const std::vector<double> &p, const bool finished);
-  template void
-  Problem<2>::postprocess(nlohmann::json &summary, const Vector<double> &v, const bool finished);
-  template void
-  Problem<2>::report_wall_pressure_with_gravity(nlohmann::json            &summary,
-                                                const std::vector<double> &xc,
-                                                const std::vector<double> &p_column,
-                                                const bool                 finished);
-  template void
-  Problem<2>::compare_rate_dependent_part(nlohmann::json &summary, const double mu_wall) const;
-  template void
-  Problem<2>::write_vtu(const Vector<double> &v);
-  template void
-  Problem<3>::write_histories(const std::vector<double> &wall_displacement,
-                              const std::vector<double> &mu_wall,
-                              const std::vector<double> &newton_iterations);
-  template void
-  Problem<3>::compute_reference();
-  template Problem<3>::WallProfile
-  Problem<3>::wall_profile(const Vector<double> &v, const double level) const;
-  template Problem<3>::WallProfile
-  Problem<3>::profile_at_depth(const Vector<double> &v, const double depth) const;
-  template void
-  Problem<3>::write_profiles_at_depths(nlohmann::json &summary, const Vector<double> &v,
-                                       const std::vector<std::string> &header);
-  template double
-  Problem<3>::g_unit() const;
-  template double
-  Problem<3>::judge_band(nlohmann::json &summary, const WallProfile &profile, const bool finished);
-  template std::vector<double>
-  Problem<3>::compare_with_reference(nlohmann::json &summary, const WallProfile &profile,
-                                     const double W) const;
-  template void
-  Problem<3>::report_wall_pressure(nlohmann::json &summary, const std::vector<double> &xc,
-                                   const std::vector<double> &p, const bool finished);
-  template void
-  Problem<3>::postprocess(nlohmann::json &summary, const Vector<double> &v, const bool finished);
-  template void
-  Problem<3>::report_wall_pressure_with_gravity(nlohmann::json            &summary,
-                                                const std::vector<double> &xc,
-                                                const std::vector<double> &p_column,
-                                                const bool                 finished);
-  template void
-  Problem<3>::compare_rate_dependent_part(nlohmann::json &summary, const double mu_wall) const;
-  template void
-  Problem<3>::write_vtu(const Vector<double> &v);
+  // Each member defined here is instantiated here, for both element types (ngf_problem.h).
+#define GRANFLOW_NGF_INSTANTIATE(D)                                                                                 \
+  template void Problem<D>::write_histories(const std::vector<double> &wall_displacement,                           \
+                                            const std::vector<double> &mu_wall,                                     \
+                                            const std::vector<double> &newton_iterations);                          \
+  template void Problem<D>::compute_reference();                                                                    \
+  template Problem<D>::WallProfile Problem<D>::wall_profile(const Vector<double> &v,                                \
+                                                            const double          level) const;                              \
+  template Problem<D>::WallProfile Problem<D>::profile_at_depth(const Vector<double> &v,                            \
+                                                                const double          depth) const;                          \
+  template void                    Problem<D>::write_profiles_at_depths(                                            \
+                         nlohmann::json &summary, const Vector<double> &v, const std::vector<std::string> &header); \
+  template double Problem<D>::g_unit() const;                                                                       \
+  template double Problem<D>::judge_band(nlohmann::json &summary, const WallProfile &profile,                       \
+                                         const bool finished);                                                      \
+  template std::vector<double> Problem<D>::compare_with_reference(                                                  \
+      nlohmann::json &summary, const WallProfile &profile, const double W) const;                                   \
+  template void Problem<D>::report_wall_pressure(                                                                   \
+      nlohmann::json &summary, const std::vector<double> &xc, const std::vector<double> &p,                         \
+      const bool finished);                                                                                         \
+  template void Problem<D>::postprocess(nlohmann::json &summary, const Vector<double> &v,                           \
+                                        const bool finished);                                                       \
+  template void Problem<D>::report_wall_pressure_with_gravity(                                                      \
+      nlohmann::json &summary, const std::vector<double> &xc, const std::vector<double> &p_column,                  \
+      const bool finished);                                                                                         \
+  template void Problem<D>::compare_rate_dependent_part(nlohmann::json &summary,                                    \
+                                                        const double    mu_wall) const;                                \
+  template void Problem<D>::write_vtu(const Vector<double> &v);
+
+  GRANFLOW_NGF_INSTANTIATE(2)
+  GRANFLOW_NGF_INSTANTIATE(3)
+#undef GRANFLOW_NGF_INSTANTIATE
 } // namespace granflow::ngf::detail

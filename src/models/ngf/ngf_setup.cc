@@ -357,33 +357,18 @@ namespace granflow::ngf::detail
       }
   }
 
-  // Each member is instantiated where it is defined, for both element types (ngf_problem.h).
-  template Problem<2>::Problem(const Parameters &prm, OutputDirectory &out, Logger &log);
-  template types::boundary_id
-  Problem<2>::boundary_id(const std::string &name) const;
-  template void
-  Problem<2>::make_mesh();
-  template void
-  Problem<2>::index_jacobian_csr();
-  template void
-  Problem<2>::setup_system();
-  template void
-  Problem<2>::make_constraints(AffineConstraints<double> &c, const double u_wall,
-                               const bool homogeneous) const;
-  template void
-  Problem<2>::add_rotated_periodicity(AffineConstraints<double> &c) const;
-  template Problem<3>::Problem(const Parameters &prm, OutputDirectory &out, Logger &log);
-  template types::boundary_id
-  Problem<3>::boundary_id(const std::string &name) const;
-  template void
-  Problem<3>::make_mesh();
-  template void
-  Problem<3>::index_jacobian_csr();
-  template void
-  Problem<3>::setup_system();
-  template void
-  Problem<3>::make_constraints(AffineConstraints<double> &c, const double u_wall,
-                               const bool homogeneous) const;
-  template void
-  Problem<3>::add_rotated_periodicity(AffineConstraints<double> &c) const;
+  // Each member defined here is instantiated here, for both element types (ngf_problem.h).
+#define GRANFLOW_NGF_INSTANTIATE(D)                                                                \
+  template Problem<D>::Problem(const Parameters &prm, OutputDirectory &out, Logger &log);          \
+  template types::boundary_id Problem<D>::boundary_id(const std::string &name) const;              \
+  template void               Problem<D>::make_mesh();                                             \
+  template void               Problem<D>::index_jacobian_csr();                                    \
+  template void               Problem<D>::setup_system();                                          \
+  template void Problem<D>::make_constraints(AffineConstraints<double> &c, const double u_wall,    \
+                                             const bool homogeneous) const;                        \
+  template void Problem<D>::add_rotated_periodicity(AffineConstraints<double> &c) const;
+
+  GRANFLOW_NGF_INSTANTIATE(2)
+  GRANFLOW_NGF_INSTANTIATE(3)
+#undef GRANFLOW_NGF_INSTANTIATE
 } // namespace granflow::ngf::detail
