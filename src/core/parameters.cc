@@ -436,15 +436,19 @@ namespace granflow
           return " (did you mean " + list + "?)";
         }
       std::string elsewhere;
+      bool        outer = false; // declared in a subsection that encloses `section`
       for (const auto &[where, candidate] : declared)
         if (candidate == name && where != section)
-          elsewhere += (elsewhere.empty() ? "" : ", ") +
-                       (where.empty() ? std::string("the top level")
-                                      : "'" + where.substr(0, where.size() - 1) + "'");
+          {
+            elsewhere += (elsewhere.empty() ? "" : ", ") +
+                         (where.empty() ? std::string("the top level")
+                                        : "'" + where.substr(0, where.size() - 1) + "'");
+            outer = outer || section.rfind(where, 0) == 0;
+          }
       return elsewhere.empty()
                  ? std::string()
                  : " ('" + name + "' is " + (subsection ? "a subsection" : "an entry") + " of " +
-                       elsewhere + ")";
+                       elsewhere + (outer ? "; is an 'end' missing above it?" : "") + ")";
     }
 
     /// readable()'s message for an unknown entry or subsection, with the subsection it is in and
