@@ -237,7 +237,7 @@ printf 'set Model = dp\nsubsection Boundary conditions\n  set Zero z-velocity = 
 check unknown-key-ties 2 "(did you mean 'Zero x-velocity' or 'Zero y-velocity'?)" \
   "$GRANFLOW" run tie.prm --output keep --quiet
 printf 'set Model = dp\nsubsection Output\n  set Name = x\nend\n' >top_in_section.prm
-check top-level-entry-in-a-subsection 2 "unknown entry 'Name' in subsection 'Output' ('Name' is an entry of the top level)" \
+check top-level-entry-in-a-subsection 2 "unknown entry 'Name' in subsection 'Output' ('Name' is an entry of the top level; is an 'end' missing above it?)" \
   "$GRANFLOW" run top_in_section.prm --output keep --quiet
 printf 'set Model = dp\nsubsection Geometry\n  set Mesh size = 0.1\nsubsection Rheology\nend\nend\n' >end_missing.prm
 check end-missing 2 "line 4: unknown subsection 'Geometry/Rheology' ('Rheology' is a subsection of the top level; is an 'end' missing above it?)" \
