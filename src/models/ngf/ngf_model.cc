@@ -3,13 +3,13 @@
 #include "models/ngf/ngf_problem.h"
 
 #include "core/interrupt.h"
+#include "core/time_left.h"
 
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/dofs/dof_tools.h>
 
 #include <algorithm>
 #include <cmath>
-#include <deque>
 #include <iomanip>
 #include <limits>
 #include <sstream>
@@ -94,9 +94,8 @@ namespace granflow::ngf::detail
     AffineConstraints<double> step_constraints;
     s.v.reinit(U.size());
     s.rate.reinit(U.size());
-    // (run time, wall displacement) of the increments of the last 10 s, for the progress
-    // line's estimate of the time left
-    std::deque<std::pair<double, double>> pace;
+    // the progress line's estimate of the time left, at the pace of the last 10 s
+    TimeLeft time_left(10., 1.);
     while (s.loading || s.u_wall < scale.u_end * (1. - 1e-12))
       {
         // What is left is divided into equal increments of at most du, so that the run ends
@@ -162,18 +161,11 @@ namespace granflow::ngf::detail
         // The time left at the pace of the last 10 s, once the increments have reached
         // Solver/Max increment: while they grow (the yielding transient) the pace says little
         // of what is left.
-        const double now    = log.elapsed();
-        const bool   capped = du >= prm.solver.max_increment * d * (1. - 1e-12);
-        if (!capped)
-          pace.clear();
-        pace.emplace_back(now, s.u_wall);
-        while (pace.size() > 2 && pace.front().first < now - 10.)
-          pace.pop_front();
-        const double advanced = pace.back().second - pace.front().second;
-        if (capped && advanced > 0. && now - pace.front().first >= 1.)
-          p << ", about "
-            << std::lround((scale.u_end - s.u_wall) / advanced * (now - pace.front().first))
-            << " s left";
+        if (du < prm.solver.max_increment * d * (1. - 1e-12))
+          time_left.restart();
+        time_left.record(log.elapsed(), s.u_wall);
+        if (const auto seconds = time_left.seconds_to(scale.u_end))
+          p << ", about " << std::lround(*seconds) << " s left";
         log.progress(p.str());
         if (interrupt::requested())
           {
