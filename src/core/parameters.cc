@@ -258,11 +258,10 @@ namespace granflow
     using OpenSections = std::vector<std::pair<std::string, unsigned int>>;
 
     /// Reads a case file's text as ParameterHandler does and calls visit(first, line, open) for
-    /// each logical line: `first` is its first physical line (a trailing backslash continues a
-    /// line, even a comment: ParameterHandler trims the lines, joins them without a blank and
-    /// strips comments after),
-    /// `line` is without its comment, trimmed and with its blanks collapsed, and `open` are the
-    /// subsections open before it. Returns those left open at the end.
+    /// each logical line. `first` is its first physical line: a trailing backslash continues a
+    /// line, even a comment (ParameterHandler trims the lines, joins them without a blank and
+    /// strips comments after). `line` is without its comment, trimmed, with its blanks collapsed;
+    /// `open` are the subsections open before it. Returns those left open at the end.
     template <typename Visit>
     OpenSections
     scan_case_text(const std::string &text, const Visit &visit)
@@ -314,17 +313,18 @@ namespace granflow
     check_structure(const std::string &file, const std::string &text)
     {
       std::map<std::string, unsigned int> set_on; // "Section/key" -> line
-      const OpenSections                  open = scan_case_text(
-                           text, [&](const unsigned int first, const std::string &line, const OpenSections &open) {
-            if (!starts_with_keyword(line, "set "))
-              return;
-            const std::string path = section_path(open) + words(line.substr(4, line.find('=') - 4));
-            if (const auto [it, fresh] = set_on.emplace(path, first); !fresh)
-              throw InputError(file, path,
-                                                "is set on line " + std::to_string(it->second) +
-                                                    " and again on line " + std::to_string(first) +
-                                                    ": expected one value (delete one of the lines)");
-          });
+      const auto check_line = [&](const unsigned int first, const std::string &line,
+                                  const OpenSections &open) {
+        if (!starts_with_keyword(line, "set "))
+          return;
+        const std::string path = section_path(open) + words(line.substr(4, line.find('=') - 4));
+        if (const auto [it, fresh] = set_on.emplace(path, first); !fresh)
+          throw InputError(file, path,
+                           "is set on line " + std::to_string(it->second) + " and again on line " +
+                               std::to_string(first) +
+                               ": expected one value (delete one of the lines)");
+      };
+      const OpenSections open = scan_case_text(text, check_line);
       if (!open.empty())
         throw InputError(file + ": subsection '" + open.back().first + "' opened on line " +
                          std::to_string(open.back().second) +
@@ -393,10 +393,10 @@ namespace granflow
     /// " (did you mean 'x'?)" for the declared names in `section` ("Section/", "" at the top level)
     /// nearest to `name`, entries or (subsection = true) subsections, if within a third of the
     /// name's length (at least 0.5: a short name matches only in another case); else, if `name`
-    /// is declared elsewhere, where.
+    /// is declared elsewhere, where (and, in a case file, whether an 'end' is missing).
     std::string
     suggestion(const dealii::ParameterHandler &prm, const std::string &section,
-               const std::string &name, const bool subsection)
+               const std::string &name, const bool subsection, const bool in_case_file = true)
     {
       // (section, name) of each declared entry or subsection; "" is the top level
       std::vector<std::pair<std::string, std::string>> declared;
@@ -448,7 +448,8 @@ namespace granflow
       return elsewhere.empty()
                  ? std::string()
                  : " ('" + name + "' is " + (subsection ? "a subsection" : "an entry") + " of " +
-                       elsewhere + (outer ? "; is an 'end' missing above it?" : "") + ")";
+                       elsewhere +
+                       (outer && in_case_file ? "; is an 'end' missing above it?" : "") + ")";
     }
 
     /// readable()'s message for an unknown entry or subsection, with the subsection it is in and
@@ -618,8 +619,14 @@ namespace granflow
           {
             const std::string message = one_line(e);
             if (message.find("you have not yet declared") != std::string::npos)
-              throw InputError("--set " + o.path + "=" + o.value + ": unknown entry '" + o.path +
-                               "'" + entries_hint(prm));
+              {
+                std::string section;
+                for (std::size_t i = 0; i + 1 < path.size(); ++i)
+                  section += path[i] + "/";
+                throw InputError("--set " + o.path + "=" + o.value + ": unknown entry '" + o.path +
+                                 "'" + suggestion(prm, section, path.back(), false, false) +
+                                 entries_hint(prm));
+              }
             throw InputError("--set " + o.path + "=" + o.value + ": " + readable(message));
           }
       }

@@ -275,6 +275,8 @@ check continued-comment-and-upper-case-end 0 "Results in continued" "$GRANFLOW" 
   --output continued --quiet --set "Output/Write vtu=false"
 check unknown-set-entry 2 "--set Rheology/Friction=0.5: unknown entry 'Rheology/Friction'" "$GRANFLOW" run \
   "$case_file" --output keep --quiet --set "Rheology/Friction=0.5"
+check unknown-set-entry-nearest 2 "--set Solver/mu=0.5: unknown entry 'Solver/mu' ('mu' is an entry of 'Rheology')" \
+  "$GRANFLOW" run "$case_file" --output keep --quiet --set "Solver/mu=0.5"
 # An empty item in a list of boundaries is a typo (it was passed over without a word).
 bad boundary-list-empty-item "Boundary conditions/No-slip': 'bottom,,top' has an empty item" \
   --set "Boundary conditions/No-slip=bottom,,top"
