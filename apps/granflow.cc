@@ -87,11 +87,8 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
           prm.print_parameters(std::cout, dealii::ParameterHandler::Text);
           return 0;
         }
-    std::string known;
-    for (const auto &m : granflow::models())
-      known += (known.empty() ? "" : ", ") + m.name;
     throw granflow::InputError("print-parameters: unknown model '" + model + "': expected one of " +
-                               known);
+                               granflow::model_names());
   }
 
   int

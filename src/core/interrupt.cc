@@ -52,10 +52,9 @@ namespace granflow::interrupt
       // The next one gets the default action: a user who presses Ctrl-C twice means it.
       std::signal(signal, SIG_DFL);
       // Said at once (write(2) is async-signal-safe), so that nobody presses it twice unawares.
-      say(signal == SIGINT ? "\ngranflow: stopping at the next iteration; what has been computed "
-                             "will be written (Ctrl-C again to quit at once)\n"
-                           : "\ngranflow: stopping at the next iteration; what has been computed "
-                             "will be written (a second SIGTERM quits at once)\n");
+      say("\ngranflow: stopping at the next iteration; what has been computed will be written ");
+      say(signal == SIGINT ? "(Ctrl-C again to quit at once)\n"
+                           : "(a second SIGTERM quits at once)\n");
     }
   } // namespace
 

@@ -117,6 +117,15 @@ namespace granflow
     return list;
   }
 
+  std::string
+  model_names()
+  {
+    std::string names;
+    for (const auto &m : models())
+      names += (names.empty() ? "" : ", ") + m.name;
+    return names;
+  }
+
   nlohmann::json
   run_case(const RunRequest &request)
   {
@@ -141,10 +150,7 @@ namespace granflow
             // the mesh, ...): a value from the command line is blamed on its --set
             rethrow_naming_overrides(e, request.case_file, request.overrides);
           }
-    std::string known;
-    for (const auto &m : models())
-      known += (known.empty() ? "" : ", ") + m.name;
     throw InputError(request.case_file, "Model",
-                     "unknown model '" + name + "': expected one of " + known);
+                     "unknown model '" + name + "': expected one of " + model_names());
   }
 } // namespace granflow

@@ -31,6 +31,10 @@ namespace granflow
   const std::vector<ModelInfo> &
   models();
 
+  /// The models' names as a message lists them: "dp, ngf".
+  std::string
+  model_names();
+
   /// Reads the case file's Model entry and runs it.
   nlohmann::json
   run_case(const RunRequest &request);

@@ -512,6 +512,9 @@ else fail "not-converged summary warns"; fi
 # it, the timeout's status 124 fails the check).
 check max-seconds 3 "was stopped by Solver/Max seconds = 0.5 at residual" timeout 60 "$GRANFLOW" run "$case_file" --output ms --quiet \
   --set "Solver/Max outer iterations=10000000" --set "Solver/Tolerance=1e-14" --set "Solver/Max seconds=0.5"
+# ... and says after how many iterations (it printed "after 1." for any count: a function streamed)
+if grep -Eq "\) after [0-9]+ iterations?\. The iterate" err.txt; then pass "max-seconds-names-the-iterations"
+else fail "max-seconds-names-the-iterations"; cat err.txt; fi
 bad max-seconds-negative "Max seconds" --set "Solver/Max seconds=-1"
 
 # Ctrl-C / SIGTERM: the run stops at its next iteration, writes what it has (summary.json says

@@ -8,6 +8,16 @@
 
 namespace granflow::dp::detail
 {
+  namespace
+  {
+    /// "1 iteration", "29 iterations" (`what` in the singular).
+    std::string
+    iterations(const unsigned int n, const std::string &what)
+    {
+      return std::to_string(n) + " " + what + (n == 1 ? "" : "s");
+    }
+  } // namespace
+
   solvers::ConeSolverStats
   Problem::solve_cone_problem()
   {
@@ -164,10 +174,10 @@ namespace granflow::dp::detail
         factorize_time += stats.time_factorize;
         ++viscosity_iterations;
         std::ostringstream s;
-        s << "  solve " << viscosity_iterations << ": " << stats.outer_iterations
-          << (interior_point ? " interior-point" : " fixed-point")
-          << (stats.outer_iterations == 1 ? " iteration" : " iterations") << ", residual "
-          << stats.residual << ", " << stats.time_solve << " s";
+        s << "  solve " << viscosity_iterations << ": "
+          << iterations(stats.outer_iterations,
+                        interior_point ? "interior-point iteration" : "fixed-point iteration")
+          << ", residual " << stats.residual << ", " << stats.time_solve << " s";
         if (!stats.converged || !bagnold)
           {
             log.print(s.str() + (stats.converged     ? "\n"
@@ -266,15 +276,14 @@ namespace granflow::dp::detail
   Problem::solver_failure(const solvers::ConeSolverStats &stats, const bool interior_point) const
   {
     std::ostringstream s;
-    const std::string  iterations = std::to_string(stats.outer_iterations) +
-                                   (stats.outer_iterations == 1 ? " iteration" : " iterations");
+    const std::string  count = iterations(stats.outer_iterations, "iteration");
     s << "the " << (interior_point ? "interior-point method" : "Cadoux fixed point");
     if (stats.interrupted)
       s << " was stopped by " << interrupt::signal_name() << " at residual " << stats.residual
-        << " (tolerance " << prm.solver.tolerance << ") after " << iterations << ". ";
+        << " (tolerance " << prm.solver.tolerance << ") after " << count << ". ";
     else if (stats.stalled)
       s << " stalled at residual " << stats.residual << " (tolerance " << prm.solver.tolerance
-        << ") after " << iterations << ": " << stats.stall_reason
+        << ") after " << count << ": " << stats.stall_reason
         << " (docs/solvers.md), which higher limits do not change; a looser "
            "Solver/Tolerance, another mesh, "
         << (p1d ? "Solver/Stress element = P1 (slower per iteration; docs/dp.md#solver-limits) "
@@ -282,12 +291,11 @@ namespace granflow::dp::detail
         << "or Solver/Method = fixed point may. ";
     else if (stats.timed_out)
       s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds << " at residual "
-        << stats.residual << " (tolerance " << prm.solver.tolerance << ") after " << iterations
-        << ". ";
+        << stats.residual << " (tolerance " << prm.solver.tolerance << ") after " << count << ". ";
     else
       {
         s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
-          << stats.residual << " after " << iterations;
+          << stats.residual << " after " << count;
         // A fixed point whose second half of iterations did not halve the least residual
         // of the first oscillates or crawls (the Bagnold layer at tan alpha = 0.7: between
         // 2.5e-5 and 5e-5 for 450 iterations, where the interior point converges in 9 s),
