@@ -247,6 +247,12 @@ check name-with-two-blanks 2 "(write it with single blanks between its words)" \
   "$GRANFLOW" run two_blanks.prm --output keep --quiet
 check case-file-is-a-directory 2 "mycase: cannot open the case file (it is a directory)" \
   "$GRANFLOW" run mycase --output keep --quiet
+# A name longer than the system allows (NAME_MAX, 255 bytes) is bad input, not an internal error.
+long_name=$(printf 'n%.0s' $(seq 300))
+check case-file-name-too-long 2 "$long_name.prm: cannot open the case file (no such readable file)" \
+  "$GRANFLOW" run "$long_name.prm" --output keep --quiet
+check output-name-too-long 2 "--output $long_name: cannot create the output directory" \
+  "$GRANFLOW" run "$case_file" --output "$long_name" --quiet
 printf '# nothing\n' >no_model.prm
 check model-missing 2 "entry 'Model': missing: the case file must name its model, e.g. 'set Model = dp'" \
   "$GRANFLOW" run no_model.prm --output keep --quiet
