@@ -24,7 +24,8 @@ namespace granflow::solvers::detail
   {
     double r = 0.;
     for (const double x : v)
-      r = std::max(r, std::abs(x));
+      if (const double a = std::abs(x); a > r || std::isnan(a))
+        r = a; // std::max would drop a NaN
     return r;
   }
 

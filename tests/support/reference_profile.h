@@ -1,6 +1,7 @@
 // Test support: comparing a profile granflow wrote with a finite-difference reference profile.
 #pragma once
 
+#include "core/max_abs.h"
 #include "postprocess/nonlocal_1d.h"
 #include "support/csv.h"
 
@@ -28,7 +29,7 @@ namespace granflow::test
         const auto   k = std::min<std::size_t>(static_cast<std::size_t>(s), reference.x.size() - 2);
         const double t = s - k;
         const double r = ((1. - t) * reference.v[k] + t * reference.v[k + 1]) / reference.v_wall;
-        worst          = std::max(worst, std::abs(v[i] - r));
+        worst          = max_abs(worst, v[i] - r);
       }
     return worst;
   }

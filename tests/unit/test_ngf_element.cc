@@ -3,6 +3,7 @@
 // frame-rotation terms; K_ug, K_gu, K_gg; Henann (66)-(89)) against fourth-order central
 // differences of the element residual (35), in finitely deformed, plastically pre-strained, flowing
 // states. The quad's kinematics are also checked against the 3D motion they represent.
+#include "core/max_abs.h"
 #include "models/ngf/ngf_element.h"
 
 #include <deal.II/base/quadrature_lib.h>
@@ -116,9 +117,9 @@ namespace
         for (unsigned int i = 0; i < n; ++i)
           {
             double &e = worst[i % 4][j % 4], &s = scale[i % 4][j % 4], &r = noise[i % 4][j % 4];
-            e = std::max(e, std::abs(out.jacobian(i, j) - fd[i]));
-            s = std::max(s, std::abs(fd[i]));
-            r = std::max(r, std::abs(fd_2[i] - fd[i]));
+            e = granflow::max_abs(e, out.jacobian(i, j) - fd[i]);
+            s = granflow::max_abs(s, fd[i]);
+            r = granflow::max_abs(r, fd_2[i] - fd[i]);
           }
       }
     // Every block must be resolved, with the twist's couplings too (the state has shears in both

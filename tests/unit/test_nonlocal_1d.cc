@@ -3,6 +3,7 @@
 // manufactured solutions (cartesian and cylindrical), the local limit g -> g_loc (small A), the
 // closed form of homogeneous shear (no gravity: constant g, linear v), the speed shooting, and the
 // paper's observations (mu_wall -> mu_s and the rate-independent plateau of W at low speed).
+#include "core/max_abs.h"
 #include "postprocess/nonlocal_1d.h"
 #include "support/reference_profile.h"
 
@@ -124,7 +125,7 @@ namespace
     const std::vector<double> g = solve_fluidity_fd(x, xi, g_loc, c);
     double                    e = 0.;
     for (std::size_t i = 0; i < x.size(); ++i)
-      e = std::max(e, std::abs(g[i] - problem.g(x[i])));
+      e = granflow::max_abs(e, g[i] - problem.g(x[i]));
     return e;
   }
 
@@ -197,7 +198,7 @@ namespace
         g_max = std::max(g_max, g_loc);
         if (profile.x[i] - problem.R_i > 0.1 * problem.material.d &&
             problem.R_o - profile.x[i] > 0.1 * problem.material.d)
-          deviation = std::max(deviation, std::abs(profile.g[i] - g_loc));
+          deviation = granflow::max_abs(deviation, profile.g[i] - g_loc);
       }
     EXPECT_LT(deviation / g_max, 1e-6);
     std::cout << "local limit: max |g - g_loc| / max g_loc = " << deviation / g_max << '\n';
@@ -470,7 +471,7 @@ namespace
     ASSERT_EQ(a.x.size(), b.x.size());
     double difference = 0.;
     for (std::size_t i = 0; i < a.x.size(); ++i)
-      difference = std::max(difference, std::abs(a.v[i] - b.v[i]) / target);
+      difference = granflow::max_abs(difference, (a.v[i] - b.v[i]) / target);
     std::ostringstream line;
     line << "annular R_i/d = 60, rate 1e-3: max |v_exact - v_paper| / v_wall = "
          << std::setprecision(4) << difference << "; W/d exact "
@@ -483,7 +484,7 @@ namespace
     // that cancels in the shape: what remains (0.26%) is small, yet far above the discretisation
     // error (~1e-4 at h = 0.01 d).
     EXPECT_GT(difference, 1e-3);
-    EXPECT_LT(difference, 0.2);
+    EXPECT_LT(difference, 1e-2); // measured 0.0026
   }
 } // namespace
 

@@ -7,6 +7,7 @@
 //   from the reaction of the momentum equation;
 // - an external stress (Boundary conditions/External stress, sigma_ext n of (21)): a layer sheared
 //   by a traction under a normal load, whose yield stress Bi + mu P depends on the load.
+#include "core/max_abs.h"
 #include "support/csv.h"
 #include "support/dp_run.h"
 
@@ -59,8 +60,8 @@ namespace
       for (std::size_t k = 0; k < csv[0].size(); ++k)
         {
           const double ref = reference.velocity(csv[0][k]);
-          max_error        = std::max(max_error, std::abs(csv[1][k] - ref));
-          max_reference    = std::max(max_reference, std::abs(ref));
+          max_error        = granflow::max_abs(max_error, csv[1][k] - ref);
+          max_reference    = granflow::max_abs(max_reference, ref);
         }
     }
   };
@@ -95,11 +96,11 @@ namespace
 } // namespace
 
 // The top wall moves at U = 1 and the body force drives the channel along x too. The profile is
-// within 1e-3 of its maximum of the analytic one: measured below 1e-6 for the Newtonian channel,
-// whose quadratic profile the P2 velocity holds exactly, and 1.4e-5 at Bi = 0.3, whose plug is
-// attached to the moving wall (y in [tau0 - Bi, 1], tau0 = sqrt(2) - 0.7). The ends of the
-// profile are the walls' velocities. The moving wall's force, from the reaction there, is its
-// shear stress: the material drags it along x by 1 - tau0 per unit length.
+// within 1e-5 (Bi = 0) and 1e-4 (Bi = 0.3) of its maximum of the analytic one: measured below 1e-6
+// for the Newtonian channel, whose quadratic profile the P2 velocity holds exactly, and 1.4e-5 at
+// Bi = 0.3, whose plug is attached to the moving wall (y in [tau0 - Bi, 1], tau0 = sqrt(2) - 0.7).
+// The ends of the profile are the walls' velocities. The moving wall's force, from the reaction
+// there, is its shear stress: the material drags it along x by 1 - tau0 per unit length.
 TEST(MovingWall, BinghamCouettePoiseuilleProfile)
 {
   for (const double Bi : {0., 0.3})
@@ -122,7 +123,9 @@ TEST(MovingWall, BinghamCouettePoiseuilleProfile)
       const auto             &csv     = profile.csv;
       const double            max_err = profile.max_error, max_ref = profile.max_reference;
       RecordProperty(name, std::to_string(max_err / max_ref));
-      EXPECT_LE(max_err / max_ref, 1e-3) << "Bi = " << Bi << ", tau0 = " << reference.tau0;
+      // a regression bound about 10 times what was measured (below 1e-6 and 1.4e-5)
+      EXPECT_LE(max_err / max_ref, Bi == 0. ? 1e-5 : 1e-4)
+          << "Bi = " << Bi << ", tau0 = " << reference.tau0;
       // the profile's ends are 2e-9 inside the walls
       EXPECT_NEAR(csv[1].front(), 0., 1e-8);
       EXPECT_NEAR(csv[1].back(), 1., 1e-8);

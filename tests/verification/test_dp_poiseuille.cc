@@ -1,6 +1,7 @@
 // Daviet & Bertails-Descoubes 2016, 6.1.1: Bingham Poiseuille flow. The case file shipped in
 // cases/ is run through the library; the velocity profile it writes is compared with the analytic
 // profile computed here, u(y) = (Re/2)[(1 - y^2) - 2 Bi (1 - |y|)] for |y| >= Bi, u(Bi) inside.
+#include "core/max_abs.h"
 #include "core/output.h"
 #include "models/dp/dp_model.h"
 #include "support/csv.h"
@@ -58,14 +59,23 @@ namespace
     for (std::size_t k = 0; k < csv[0].size(); ++k)
       {
         const double ref = poiseuille(csv[0][k], Bi, Re);
-        max_err          = std::max(max_err, std::abs(csv[1][k] - ref));
-        max_ref          = std::max(max_ref, std::abs(ref));
-        max_uy           = std::max(max_uy, std::abs(csv[2][k]));
+        max_err          = granflow::max_abs(max_err, csv[1][k] - ref);
+        max_ref          = granflow::max_abs(max_ref, ref);
+        max_uy           = granflow::max_abs(max_uy, csv[2][k]);
       }
-    EXPECT_LE(max_uy, 0.01 * max_ref) << "the flow is parallel: u_y = 0";
+    // measured at most 3.7e-4 (Bi = 0.9; 7e-6 at Bi = 0.1)
+    EXPECT_LE(max_uy, 1e-3 * max_ref) << "the flow is parallel: u_y = 0";
     ::testing::Test::RecordProperty("max_rel_error_" + std::to_string(Bi),
                                     std::to_string(max_err / max_ref));
-    EXPECT_LE(max_err / max_ref, 0.01) << "Bi = " << Bi;
+    EXPECT_LE(max_err / max_ref, 0.01) << "Bi = " << Bi; // the bound
+    // ... and a regression bound, 3 times what was measured (session 31, the fixed point and the
+    // interior point alike: 4.8e-5, 1.8e-4, 2.0e-4, 5.9e-4 and 2.8e-3 for Bi = 0.1 to 0.9)
+    const double measured = Bi < 0.2   ? 4.8e-5
+                            : Bi < 0.4 ? 1.8e-4
+                            : Bi < 0.6 ? 2.0e-4
+                            : Bi < 0.8 ? 5.9e-4
+                                       : 2.8e-3;
+    EXPECT_LE(max_err / max_ref, 3. * measured) << "Bi = " << Bi;
     EXPECT_NEAR(summary["max_rel_error"].get<double>(), max_err / max_ref, 1e-8); // CSV precision
     EXPECT_GT(summary["plug"]["points"].get<int>(), 0);
     EXPECT_LE(summary["plug"]["max_scaled_strain_rate_T"].get<double>(),
@@ -142,8 +152,8 @@ TEST(PressureDependentPoiseuille, IsBinghamsWithTheYieldStressAtTheAppliedPressu
       for (std::size_t k = 0; k < csv[0].size(); ++k)
         {
           const double ref = poiseuille(csv[0][k], Bi, 1.);
-          max_err          = std::max(max_err, std::abs(csv[1][k] - ref));
-          max_ref          = std::max(max_ref, std::abs(ref));
+          max_err          = granflow::max_abs(max_err, csv[1][k] - ref);
+          max_ref          = granflow::max_abs(max_ref, ref);
         }
       RecordProperty(name, std::to_string(max_err / max_ref));
       EXPECT_LE(max_err / max_ref, 0.01) << c.method << ": against Bingham at Bi + mu P = " << Bi;
@@ -182,7 +192,7 @@ TEST_P(BinghamConvergence, ErrorsDecreaseUnderRefinement)
           const double y = csv[0][k];
           ASSERT_NEAR(csv[4][k], poiseuille(y, Bi, Re), 1e-9) << "y = " << y;
           ASSERT_NEAR(csv[5][k], poiseuille_shear_rate(y, Bi, Re), 1e-9) << "y = " << y;
-          e = std::max(e, std::abs(csv[1][k] - poiseuille(y, Bi, Re)));
+          e = granflow::max_abs(e, csv[1][k] - poiseuille(y, Bi, Re));
         }
       line_Linf.push_back(e);
     }

@@ -4,6 +4,7 @@
 // R_o - R_i = 6 d, H = 3 d, h/d = 1/2, 2 degrees of rotation at R_i Omega / sqrt(G d) = 1e-3.
 // Checked: surface velocity within 0.02 of the wall speed (issue #3 c), W within 1 % and mu_wall
 // within 1.5 % (measured 0.31 % and 0.66 %).
+#include "core/max_abs.h"
 #include "models/ngf/ngf_model.h"
 #include "support/csv.h"
 #include "support/ngf_run.h"
@@ -44,10 +45,13 @@ namespace
     for (std::size_t i = 0; i < a[0].size(); ++i)
       {
         ASSERT_NEAR(a[0][i], b[0][i], 1e-9); // the same surface nodes
-        worst = std::max(worst, std::abs(a[1][i] - b[1][i]));
+        worst = granflow::max_abs(worst, a[1][i] - b[1][i]);
       }
     RecordProperty("max_surface_velocity_difference", std::to_string(worst));
-    EXPECT_LE(worst, 0.02);
+    EXPECT_LE(worst, 0.02); // the issue's bound (#3 c)
+    // ... and a regression bound, 3 times what was measured here (0.0019): a drift like the full
+    // case's slice after 8 degrees (0.019, docs/ngf.md) would pass the issue's bound
+    EXPECT_LE(worst, 6e-3);
     const double W_quad  = quad["shear_band_width_over_d"],
                  W_slice = slice["shear_band_width_over_d"];
     const double mu_quad = quad["mu_wall"], mu_slice = slice["mu_wall"];

@@ -1,5 +1,6 @@
 // The dp Problem's postprocessing and output: fields at the constraint points and zones, the
 // velocity profile, fluxes, boundary forces and drag (6.3.1), the summary and the VTU.
+#include "core/max_abs.h"
 #include "models/dp/dp_problem.h"
 
 #include "postprocess/analytic.h"
@@ -228,10 +229,10 @@ namespace granflow::dp::detail
         double max_err = 0., max_ref = 0., max_shear_err = 0., max_shear_ref = 0.;
         for (std::size_t k = 0; k < coord.size(); ++k)
           {
-            max_err       = std::max(max_err, std::abs(ux[k] - u_ref[k]));
-            max_ref       = std::max(max_ref, std::abs(u_ref[k]));
-            max_shear_err = std::max(max_shear_err, std::abs(shear[k] - shear_ref[k]));
-            max_shear_ref = std::max(max_shear_ref, std::abs(shear_ref[k]));
+            max_err       = max_abs(max_err, ux[k] - u_ref[k]);
+            max_ref       = max_abs(max_ref, u_ref[k]);
+            max_shear_err = max_abs(max_shear_err, shear[k] - shear_ref[k]);
+            max_shear_ref = max_abs(max_shear_ref, shear_ref[k]);
           }
         header.insert(header.end(), {"u_x_reference", "du_x/dy_reference"});
         columns.push_back(u_ref);
@@ -279,7 +280,7 @@ namespace granflow::dp::detail
                   {
                     const double y    = fv.quadrature_point(q)[1];
                     const double e    = analytic::bingham_poiseuille_velocity(y, Bi, Re) - uq[q][0];
-                    error_Linf        = std::max({error_Linf, std::abs(e), std::abs(uq[q][1])});
+                    error_Linf        = max_abs(max_abs(error_Linf, e), uq[q][1]);
                     Tensor<1, dim> de = gq[q][0];
                     de[1] -= analytic::bingham_poiseuille_shear_rate(y, Bi, Re);
                     error_H1_sq += (de * de + gq[q][1] * gq[q][1]) * fv.JxW(q);

@@ -1,5 +1,6 @@
 // ngf: the increments to steady state (Section 6), steadiness, the run's warnings and failures, and
 // ngf::run().
+#include "core/max_abs.h"
 #include "models/ngf/ngf_problem.h"
 
 #include "core/interrupt.h"
@@ -244,7 +245,7 @@ namespace granflow::ngf::detail
         const Vector<double> v_end = steady_velocity(s.v, s.rate);
         double               dv    = 0.;
         for (types::global_dof_index i = 0; i < v_end.size(); ++i)
-          dv = std::max(dv, std::abs(v_end[i] - s.v_window[i]) / scale.v_wall);
+          dv = max_abs(dv, (v_end[i] - s.v_window[i]) / scale.v_wall);
         // relative to the larger of the two (a mu_wall of exactly 0, a body not loaded at all,
         // is steady if it stays 0)
         const double scale_mu = std::max(std::abs(s.mu_wall), std::abs(s.mu_wall_window));
@@ -689,7 +690,7 @@ namespace granflow::ngf::detail
         at_c[displacement].get_function_gradients(U, grad_c);
         const double J_c = J(grad_c[0]);
         for (const auto &g : grad_q)
-          spread = std::max(spread, std::abs(J(g) / J_c - 1.));
+          spread = max_abs(spread, J(g) / J_c - 1.);
       }
     return spread;
   }

@@ -1,6 +1,7 @@
 // ngf: postprocessing (Henann & Kamrin 2016, Section 6): the profile across the band and W, the
 // finite-difference reference of (90) / (92), the wall pressure, mu_wall's rate-dependent part,
 // profiles at depth, the histories and the VTU.
+#include "core/max_abs.h"
 #include "models/ngf/ngf_problem.h"
 
 #include "core/errors.h"
@@ -293,7 +294,7 @@ namespace granflow::ngf::detail
         const double t   = s - k;
         const double vfd = ((1. - t) * ref.v[k] + t * ref.v[k + 1]) / ref.v_wall;
         v_fd.push_back(vfd);
-        worst = std::max(worst, std::abs(vfd - profile.v[i]));
+        worst = max_abs(worst, vfd - profile.v[i]);
       }
     const double mu_wall = summary["mu_wall"].is_number()
                                ? summary["mu_wall"].get<double>()
