@@ -131,6 +131,44 @@ namespace
     return cases;
   }
 
+  /// DP(mu, Bi) with Bi > 0 at every point, written out by hand (not through the library's
+  /// residuals): lambda in the truncated cone K_{mu,Bi} = {lambda_N >= 0, |lambda_T| <= Bi + mu
+  /// lambda_N} (16), and gamma_hat = gamma + mu |gamma_T| e_N in minus its normal cone at lambda.
+  /// Inside K: gamma = 0. On its side (|lambda_T| = Bi + mu lambda_N): gamma_T = -|gamma_T|
+  /// lambda_T / |lambda_T|, else gamma_T = 0. Above its base (lambda_N > 0): gamma_N = 0, else
+  /// gamma_N >= 0. `n` is the block size (2D: 3, 3D: 6).
+  void
+  expect_truncated_cone_law(const ConeProblemData &data, const std::size_t n,
+                            const std::vector<double> &lambda, const std::vector<double> &gamma,
+                            const double tolerance)
+  {
+    for (std::size_t i = 0; i < data.mu.size(); ++i)
+      {
+        ASSERT_GT(data.Bi[i], 0.) << "point " << i;
+        const double *l = &lambda[n * i], *g = &gamma[n * i];
+        double        lT = 0.;
+        for (std::size_t c = 1; c < n; ++c)
+          lT += l[c] * l[c];
+        lT                  = std::sqrt(lT);
+        const double radius = data.Bi[i] + data.mu[i] * l[0];
+        EXPECT_GE(l[0], -tolerance) << "point " << i << ": lambda_N < 0";
+        EXPECT_LE(lT, radius + tolerance) << "point " << i << ": lambda outside K_{mu,Bi}";
+        const bool on_side = lT >= radius - tolerance;
+        double     gT      = 0.;
+        for (std::size_t c = 1; c < n; ++c)
+          gT += g[c] * g[c];
+        gT = std::sqrt(gT);
+        for (std::size_t c = 1; c < n; ++c)
+          EXPECT_NEAR(g[c], on_side ? -gT * l[c] / lT : 0., tolerance)
+              << "point " << i << ", component " << c
+              << (on_side ? ": side" : ": inside the radius");
+        if (l[0] > tolerance)
+          EXPECT_NEAR(g[0], 0., tolerance) << "point " << i << ": above the base, gamma_N = 0";
+        else
+          EXPECT_GE(g[0], -tolerance) << "point " << i << ": at the base, gamma_N >= 0";
+      }
+  }
+
   /// Expects the returned u to be A^{-1}(H^T lambda + l) (35a) to `tolerance`; returns the strain
   /// rate gamma = H u (k = 0) recomputed from it, for the rheology checks.
   std::vector<double>
@@ -721,12 +759,13 @@ TEST(ConeSplitInteriorPoint, TruncatedConesAgreeWithTheFixedPoint)
   // DP(mu, Bi) with Bi > 0 (the truncated cone K_{mu,Bi} of (16)), one point of it Bingham's (mu =
   // 0), in 2D and 3D: the split form, whose friction pair is (t, gamma_T) in K _|_ (Bi + mu
   // lambda_N, lambda_T) in K, finds the u of Cadoux's fixed point with the truncated cone
-  // (4.5.2), and its lambda satisfies the law (Alart-Curnier, valid for any Bi) with gamma
-  // recomputed from u. In 2D the three points are on the cone's side (flowing), at its base's
-  // edge (lambda_N = 0, |lambda_T| = Bi, dilating) and inside the radius at lambda_N = 0 (gamma_T =
-  // 0, dilating), each strictly complementary. Tolerance 1e-6, not the 1e-7 of the Bi = 0 tests:
-  // in 2D the split form ends at 4.9e-7, where its velocity matrix, whose block at the flowing
-  // point grows like lambda_N / gamma_N (2e11 there), can no longer be factorised.
+  // (4.5.2), and its lambda satisfies the law with gamma recomputed from u: by the library's
+  // Alart-Curnier residual (valid for any Bi) and case by case, written out in the test. In 2D the
+  // three points are on the cone's side (flowing), at its base's edge (lambda_N = 0, |lambda_T| =
+  // Bi, dilating) and inside the radius at lambda_N = 0 (gamma_T = 0, dilating), each strictly
+  // complementary. Tolerance 1e-6, not the 1e-7 of the Bi = 0 tests: in 2D the split form ends
+  // at 4.9e-7, where its velocity matrix, whose block at the flowing point grows like lambda_N /
+  // gamma_N (2e11 there), can no longer be factorised.
   for (const std::size_t block_size : {3, 6})
     {
       ConeProblemData data = coupled_random_problem(block_size, block_size == 3 ? 10 : 20);
@@ -746,6 +785,7 @@ TEST(ConeSplitInteriorPoint, TruncatedConesAgreeWithTheFixedPoint)
       std::vector<double> gamma;
       data.H.vmult(gamma, solution.u);
       EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-6);
+      expect_truncated_cone_law(data, block_size, solution.lambda, gamma, 1e-5);
       RecordProperty("residual_" + std::to_string(block_size), std::to_string(stats.residual));
 
       ConeSolverOptions reference_options;
