@@ -6,6 +6,7 @@
 #include "models/dp/dp_model.h"
 #include "models/ngf/ngf_model.h"
 
+#include <algorithm>
 #include <filesystem>
 #include <iostream>
 
@@ -132,12 +133,17 @@ namespace granflow
     const std::string name = read_model_name(request.case_file);
     for (const Override &o : request.overrides)
       if (split_list(o.path, '/') == std::vector<std::string>{"Model"} && trim(o.value) != name)
-        throw InputError("--set " + o.path + "=" + o.value +
-                         ": the model is the case file's (set Model = " + name +
-                         "), and the entries of one model are not another's: expected a case "
-                         "file of that model (`granflow print-parameters " +
-                         (trim(o.value).empty() ? std::string("MODEL") : trim(o.value)) +
-                         "` writes one)");
+        {
+          const std::string other = trim(o.value);
+          const auto        known = std::find_if(models().begin(), models().end(),
+                                                 [&](const auto &m) { return m.name == other; });
+          throw InputError(
+              "--set " + o.path + "=" + o.value + ": the model is the case file's (set Model = " +
+              name + "), and the entries of one model are not another's: expected " +
+              (known != models().end() ? "a case file of that model (`granflow print-parameters " +
+                                             other + "` writes one)"
+                                       : "no --set Model (the models are " + model_names() + ")"));
+        }
     for (const auto &m : models())
       if (m.name == name)
         try

@@ -258,6 +258,9 @@ check model-missing 2 "entry 'Model': missing: the case file must name its model
   "$GRANFLOW" run no_model.prm --output keep --quiet
 check set-model 2 "--set Model=ngf: the model is the case file's (set Model = dp)" \
   "$GRANFLOW" run "$case_file" --output keep --quiet --set "Model=ngf"
+# ... and a model that does not exist is not offered as print-parameters' argument (refused there)
+check set-model-unknown 2 "expected no --set Model (the models are dp, ngf)" \
+  "$GRANFLOW" run "$case_file" --output keep --quiet --set "Model=mui"
 # An entry name with a space, unquoted on the command line, arrives as two arguments.
 check set-unquoted-space 2 "quote an entry whose name has a blank: --set 'Solver/Stress element=P1'" \
   "$GRANFLOW" run "$case_file" --output keep --quiet --set Solver/Stress element=P1
@@ -315,6 +318,12 @@ bad external-pressure-not-finite "finite number" --set "Boundary conditions/Exte
 bad profile-off-the-mesh "fewer than 2 of the line's 201 points lie in the mesh: expected a line across the domain" --set "Output/Profile start=100, 100" --set "Output/Profile end=101, 100"
 bad profile-one-end-only "is set while Output/Profile start is empty: expected both points of the line, or neither" \
   --set "Output/Profile start=" --set "Output/Profile end=0, 1"
+# A line of zero length wrote 201 copies of one point, and 0/0 relative errors as null.
+bad profile-of-zero-length "'-0.5, 0.3' is the point Output/Profile start names: expected the other end of a line" \
+  --set "Output/Profile start=-0.5, 0.3" --set "Output/Profile end=-0.5, 0.3"
+# U_infinity on a wall is 0 by its condition: a flowing channel was called jammed, C_D null.
+check inflow-boundary-on-a-wall 2 "'walls' is in Boundary conditions/No-slip, so no material crosses it: expected the boundary the material enters by" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/cylinder.prm" --output keep --quiet --set "Output/Inflow boundary=walls"
 # Without Profile start and end a case samples the vertical line through the middle of its mesh's
 # bounding box (a case for the silo, the cylinder or a user mesh no longer has to set them).
 sed -e '/Profile start/d' -e '/Profile end/d' "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" >silo_noline.prm
@@ -512,6 +521,27 @@ else fail "viscosity-not-converged summary"; fi
 # converges, and the profile is 87 % off; the run warns.
 check bingham-layer-unresolved 0 "the mesh does not resolve it, and max_rel_error is 0.87" "$GRANFLOW" \
   run "$case_file" --output bi099 --set "Rheology/Bi=0.99"
+# The references are profiles across the channel, functions of y: a line along the no-slip wall
+# (y = -1) has u = 0 and a reference of 0 (it was compared with the profile's values at its x,
+# max_rel_error 1.0); its relative error is null, and the run says why.
+check reference-along-the-wall 0 "the reference velocity is 0 all along the profile line, so its relative error is not defined" \
+  "$GRANFLOW" run "$case_file" --output wall_line --set "Geometry/Mesh size=0.2" \
+  --set "Output/Profile start=-0.9, -1" --set "Output/Profile end=-0.1, -1"
+if /usr/bin/python3 -c "import json, sys
+s = json.load(open('wall_line/summary.json'))
+sys.exit(not (s['max_rel_error'] is None and s['max_rel_error_shear'] < 0.02))"; then
+  pass "reference-along-the-wall summary"
+else fail "reference-along-the-wall summary"; fi
+# A viscosity floor above every strain rate: the first solve (eta = 1) used to pass as converged
+# (its eta(u) and eta(0) were both the floor); now the loop runs to eta = floor, and warns.
+check bagnold-floor-binds-everywhere 0 "|D(u)| is below Rheology/Viscosity floor = 10 on 100 % of the domain" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output floor10 --set "Geometry/Mesh size=0.2" \
+  --set "Solver/Method=interior point" --set "Rheology/Viscosity floor=10"
+if /usr/bin/python3 -c "import json, sys
+s = json.load(open('floor10/summary.json'))['solver']
+sys.exit(not (s['viscosity_iterations'] > 2 and s['viscosity_converged']))"; then
+  pass "bagnold-floor-binds-everywhere iterates"
+else fail "bagnold-floor-binds-everywhere iterates"; fi
 # ... and its summary.json says that its numbers are not a solution's.
 if grep -q "did not reach its tolerance (residual .*every result here is that of its best iterate" \
   nc/summary.json; then pass "not-converged summary warns"
@@ -596,6 +626,10 @@ check ngf-annulus-no-fd-reference 2 "'finite difference' has no 1D reduction for
 check ngf-annulus-row-top 2 "names boundary 'top', which the annulus row lacks: expected inner wall or outer wall" \
   "$GRANFLOW" run "$SOURCE_DIR/cases/henann2016/annular_shear.prm" --output keep --quiet \
   --set "Fluidity boundary conditions/Dirichlet=top: 0"
+# A wall pressure below the weight of the first element's layer: mu_wall is the mesh's (75 here).
+check ngf-wall-pressure-below-element-weight 0 "the weight of half an element's layer, phi rho_s G h / 2, is 167 P_wall" \
+  "$GRANFLOW" run "$ngf_case" --output ngf_low_pressure --set "Loading/Wall pressure=1e-3" \
+  --set "Output/Reference=none"
 ngf_bad fluidity-boundary-twice "a second time" --set "Fluidity boundary conditions/Dirichlet=wall: 0, wall: 5"
 ngf_bad fluidity-boundary-in-both-lists "a second time" --set "Fluidity boundary conditions/Dirichlet=wall: 0" \
   --set "Fluidity boundary conditions/Neumann=wall: 100"

@@ -103,26 +103,29 @@ namespace granflow::dp::detail
     return eta;
   }
 
-  double
-  Problem::viscosity_change(const Vector<double> &u_old) const
+  Problem::ViscosityChange
+  Problem::viscosity_change(const std::vector<double> &eta_used) const
   {
     FEValues<dim> fv(mapping, fe_u, quadrature, update_gradients | update_JxW_values);
     const FEValuesExtractors::Vector     velocity(0);
-    std::vector<SymmetricTensor<2, dim>> D(quadrature.size()), D_old(quadrature.size());
-    double                               change = 0., size = 0.;
+    std::vector<SymmetricTensor<2, dim>> D(quadrature.size());
+    double                               change = 0., size = 0., floored = 0., area = 0.;
+    std::size_t                          k = 0;
     for (const auto &cell : dof_u.active_cell_iterators())
       {
         fv.reinit(cell);
         fv[velocity].get_function_symmetric_gradients(u, D);
-        fv[velocity].get_function_symmetric_gradients(u_old, D_old);
-        for (unsigned int q = 0; q < quadrature.size(); ++q)
+        for (unsigned int q = 0; q < quadrature.size(); ++q, ++k)
           {
-            const double eta = bagnold_viscosity(D[q]), eta_old = bagnold_viscosity(D_old[q]);
-            change += (eta - eta_old) * (eta - eta_old) * fv.JxW(q);
+            const double eta = bagnold_viscosity(D[q]);
+            change += (eta - eta_used[k]) * (eta - eta_used[k]) * fv.JxW(q);
             size += eta * eta * fv.JxW(q);
+            if (eta <= prm.rheology.viscosity_floor)
+              floored += fv.JxW(q);
+            area += fv.JxW(q);
           }
       }
-    return std::sqrt(change / size); // eta >= the viscosity floor > 0
+    return {std::sqrt(change / size), floored / area}; // eta >= the viscosity floor > 0
   }
 
   Results
@@ -152,8 +155,9 @@ namespace granflow::dp::detail
     const bool          interior_point =
         solvers::parse_cone_method(prm.solver.method) == solvers::ConeMethod::interior_point;
     unsigned int viscosity_iterations = 0;
-    // not measured (null in summary.json) until a second Bagnold solve
+    // the Bagnold loop's residual (null in summary.json without a Bagnold viscosity)
     double                   change = std::numeric_limits<double>::quiet_NaN();
+    double                   floored_fraction = 0.; // of the area, where |D(u)| < the floor
     solvers::ConeSolverStats stats;
     unsigned int             outer_total = 0, inner_total = 0;
     double                   solve_time = 0., factorize_time = 0.;
@@ -165,8 +169,7 @@ namespace granflow::dp::detail
                                        " free velocity dofs; each factorises its Newton matrix)"
                                  : "factorising A (" + std::to_string(n_free) +
                                        " free velocity dofs), then fixed-point iterations");
-        const Vector<double> u_old = u;
-        stats                      = solve_cone_problem();
+        stats = solve_cone_problem();
         before_results.reset();
         outer_total += stats.outer_iterations;
         inner_total += stats.inner_iterations;
@@ -185,8 +188,11 @@ namespace granflow::dp::detail
                                                      : " (not converged)\n"));
             break;
           }
-        change = viscosity_change(u_old);
-        s << ", viscosity fixed point: relative change of eta = |D(u)| " << change;
+        const ViscosityChange c = viscosity_change(eta);
+        change                  = c.relative;
+        floored_fraction        = c.floored_area_fraction;
+        s << ", viscosity fixed point: relative change of eta = |D(u)| " << change
+          << " (the floor binds on " << 100. * floored_fraction << " % of the area)";
         log.print(s.str() + "\n");
         log.progress("viscosity iteration " + std::to_string(viscosity_iterations));
         if (change <= prm.solver.viscosity_tolerance ||
@@ -237,6 +243,19 @@ namespace granflow::dp::detail
           << viscosity_iterations << " iterations (last relative change of eta = |D(u)| " << change
           << ", tolerance " << prm.solver.viscosity_tolerance
           << "): every result here is that of its last iterate, not of a solution";
+        report.warn(w.str());
+      }
+    // Where |D(u)| is below the floor, eta is the floor's, not Bagnold's |D(u)|: a few
+    // per cent of the layer at most near its free surface (the shipped case: none of its points),
+    // but a floor as large as the strain rates makes the whole flow the floor's.
+    if (bagnold && floored_fraction > 0.1)
+      {
+        std::ostringstream w;
+        w << std::setprecision(3)
+          << "|D(u)| is below Rheology/Viscosity floor = " << prm.rheology.viscosity_floor << " on "
+          << 100. * floored_fraction
+          << " % of the domain, where the viscosity is the floor's, not Bagnold's eta = |D(u)|: "
+             "the flow there is not the Bagnold law's (lower the floor)";
         report.warn(w.str());
       }
     if (!stats.converged)

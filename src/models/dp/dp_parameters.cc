@@ -343,11 +343,13 @@ namespace granflow::dp
                            std::string(output.profile_start.empty() ? "start" : "end") +
                            " is empty: expected both points of the line, or neither (the mesh's "
                            "vertical middle line)");
-    if (!output.profile_start.empty())
-      {
-        parse_point(output.profile_start, f, "Output/Profile start");
-        parse_point(output.profile_end, f, "Output/Profile end");
-      }
+    if (!output.profile_start.empty() &&
+        parse_point(output.profile_start, f, "Output/Profile start") ==
+            parse_point(output.profile_end, f, "Output/Profile end"))
+      throw InputError(f, "Output/Profile end",
+                       "'" + output.profile_end +
+                           "' is the point Output/Profile start names: expected the other end "
+                           "of a line");
   }
 
   void

@@ -1,12 +1,16 @@
 // The dp Problem's postprocessing and output: fields at the constraint points and zones, the
 // velocity profile, fluxes, boundary forces and drag (6.3.1), the summary and the VTU.
-#include "core/max_abs.h"
 #include "models/dp/dp_problem.h"
 
+#include "core/max_abs.h"
 #include "postprocess/analytic.h"
 
 #include <deal.II/grid/grid_tools.h>
 #include <deal.II/numerics/data_out.h>
+
+#include <limits>
+#include <sstream>
+#include <tuple>
 
 namespace granflow::dp::detail
 {
@@ -215,8 +219,10 @@ namespace granflow::dp::detail
         std::vector<double> u_ref, shear_ref;
         const double        Bi = prm.rheology.Bi, Re = prm.rheology.Re, mu = prm.rheology.mu;
         const double        alpha = std::atan2(prm.e_g()[0], -prm.e_g()[1]);
-        for (const double y : coord)
-          if (reference == "bingham poiseuille")
+        // Both references are profiles across the layer, functions of y alone: evaluated at each
+        // sample's y, whichever way the line runs (a horizontal line's coord is its x).
+        for (const auto &point : samples.points)
+          if (const double y = point[1]; reference == "bingham poiseuille")
             {
               u_ref.push_back(analytic::bingham_poiseuille_velocity(y, Bi, Re));
               shear_ref.push_back(analytic::bingham_poiseuille_shear_rate(y, Bi, Re));
@@ -237,9 +243,24 @@ namespace granflow::dp::detail
         header.insert(header.end(), {"u_x_reference", "du_x/dy_reference"});
         columns.push_back(u_ref);
         columns.push_back(shear_ref);
-        S["reference"]           = reference;
-        S["max_rel_error"]       = max_err / max_ref;
-        S["max_rel_error_shear"] = max_shear_err / max_shear_ref;
+        S["reference"]   = reference;
+        const double nan = std::numeric_limits<double>::quiet_NaN();
+        // relative to the reference's largest value on the line; null where it is 0 there (a
+        // line along a no-slip wall, the shear rate across a plug)
+        S["max_rel_error"]       = max_ref > 0. ? max_err / max_ref : nan;
+        S["max_rel_error_shear"] = max_shear_ref > 0. ? max_shear_err / max_shear_ref : nan;
+        for (const auto &[what, largest, error] : {std::tuple{"velocity", max_ref, max_err},
+                                                   {"shear rate", max_shear_ref, max_shear_err}})
+          if (!(largest > 0.))
+            {
+              std::ostringstream w;
+              w << std::setprecision(3) << "the reference " << what
+                << " is 0 all along the profile line, so its relative error is not defined (null "
+                   "in max_rel_error"
+                << (std::string(what) == "velocity" ? "" : "_shear")
+                << "); the largest difference is " << error;
+              report.warn(w.str());
+            }
         if (reference == "bingham poiseuille")
           {
             // The plug must be rigid: at the constraint points farther than two elements from

@@ -184,12 +184,23 @@ namespace granflow::dp::detail
     solve_cone_problem();
     std::vector<double>
     viscosity_from_velocity() const;
-    /// ||eta(u) - eta(u_old)|| / ||eta(u)|| (L2 over the domain) with eta = bagnold_viscosity(D):
-    /// the Bagnold loop's change. It is blind to rigid motions, which a moving boundary's u_D
-    /// adds to u, and to strain rates below the viscosity floor (a rigid zone's solver noise),
-    /// which do not change eta.
-    double
-    viscosity_change(const Vector<double> &u_old) const;
+    /// The Bagnold loop's state after a solve.
+    struct ViscosityChange
+    {
+      /// ||eta(u) - eta_used|| / ||eta(u)|| (L2 over the domain), eta(u) =
+      /// bagnold_viscosity(D(u)) of the solve's velocity and eta_used the viscosity the solve
+      /// was assembled with: the residual of the fixed point eta = |D(u(eta))|. (It compared
+      /// eta(u) with eta(u_old) before, which is 0 wherever both strain rates are below the
+      /// floor: a first solve whose strain rates were all below it passed as converged, with
+      /// the starting eta = 1.) It is blind to rigid motions, which a moving boundary's u_D adds
+      /// to u.
+      double relative = 0.;
+      /// The fraction of the domain's area where |D(u)| is below the viscosity floor.
+      double floored_area_fraction = 0.;
+    };
+    /// eta_used per quadrature point, in viscosity_from_velocity()'s order.
+    ViscosityChange
+    viscosity_change(const std::vector<double> &eta_used) const;
     /// Daviet 6.1.3: eta = |D(u)|, bounded below by the viscosity floor.
     double
     bagnold_viscosity(const SymmetricTensor<2, dim> &D) const

@@ -244,7 +244,21 @@ namespace granflow::dp::detail
                                "its reaction)");
       }
     if (!prm.output.inflow_boundary.empty())
-      mesh.id(prm.output.inflow_boundary, prm.case_file, "Output/Inflow boundary");
+      {
+        // U_infinity is the mean inflow speed there: 0 by the condition on a wall, which made a
+        // flowing channel "jammed" (C_D null) with exit 0.
+        const auto id =
+            mesh.id(prm.output.inflow_boundary, prm.case_file, "Output/Inflow boundary");
+        if (const auto condition = condition_of.find(id);
+            condition != condition_of.end() &&
+            (std::string(condition->second) == "No-slip" ||
+             std::string(condition->second) == "Zero normal velocity"))
+          throw InputError(prm.case_file, "Output/Inflow boundary",
+                           "'" + prm.output.inflow_boundary + "' is in Boundary conditions/" +
+                               condition->second +
+                               ", so no material crosses it: expected the boundary the material "
+                               "enters by");
+      }
   }
 
   /// A granular material carries no tension: lambda_N >= 0 (the cone K_mu of (16)). A load

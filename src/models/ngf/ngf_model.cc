@@ -1,9 +1,9 @@
 // ngf: the increments to steady state (Section 6), steadiness, the run's warnings and failures, and
 // ngf::run().
-#include "core/max_abs.h"
 #include "models/ngf/ngf_problem.h"
 
 #include "core/interrupt.h"
+#include "core/max_abs.h"
 #include "core/time_left.h"
 
 #include <deal.II/base/quadrature_lib.h>

@@ -1,10 +1,10 @@
 // ngf: postprocessing (Henann & Kamrin 2016, Section 6): the profile across the band and W, the
 // finite-difference reference of (90) / (92), the wall pressure, mu_wall's rate-dependent part,
 // profiles at depth, the histories and the VTU.
-#include "core/max_abs.h"
 #include "models/ngf/ngf_problem.h"
 
 #include "core/errors.h"
+#include "core/max_abs.h"
 #include "postprocess/nonlocal_1d.h"
 
 #include <deal.II/numerics/data_out.h>
@@ -343,6 +343,25 @@ namespace granflow::ngf::detail
           << "; mu_wall, the wall's shear stress over P_wall as in the paper, includes "
              "this, mu_wall_local = tau / p = "
           << mu_wall / p_wall << " does not";
+        report.warn(w.str());
+      }
+    // The column's mu_wall is the wall node's reaction over P_wall, and that reaction averages
+    // the shear stress over the first element, where the pressure is P_wall plus up to the
+    // weight of the element's layer: about mu (1 + phi rho_s G h / (2 P_wall)) P_wall. Where
+    // that weight is not small against P_wall, mu_wall is the mesh's (at P_wall / (phi rho_s G
+    // d) = 1e-3 and h = d/3: 75, against about 0.4 on fine meshes).
+    const double half_weight = column ? scale.body_force * scale.h / 2. : 0.;
+    if (finished && half_weight > 0.1 * scale.P_wall)
+      {
+        std::ostringstream w;
+        w << std::setprecision(3) << "the weight of half an element's layer, phi rho_s G h / 2, is "
+          << half_weight / scale.P_wall
+          << " P_wall: the wall's reaction averages the shear stress over the first element, "
+             "where the pressure is up to that much above P_wall, so mu_wall (and the wall's "
+             "pressure, "
+          << p_wall
+          << " P_wall) carry an error of that order; raise Loading/Wall pressure or refine "
+             "Geometry/Element size";
         report.warn(w.str());
       }
     if (summary.contains("reference"))
