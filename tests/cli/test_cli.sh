@@ -197,6 +197,8 @@ then pass "traction-free boundaries in summary"; else fail "traction-free bounda
 # Bad input: one message naming the file and the entry, exit 2, nothing already written lost.
 mkdir -p keep && echo "earlier result" >keep/summary.json
 bad() { check "$1" 2 "$2" "$GRANFLOW" run "$case_file" --output keep --quiet "${@:3}"; }
+# A value out of its entry's range: name, Section/entry, value, the range the message gives.
+bad_value() { bad "$1" "$2=$3: value '$3' is invalid: expected $4" --set "$2=$3"; }
 printf 'set Model = dp\nsubsection Rheology\n  set mu = 0.5\n  set frobnication = 3\nend\n' >unknown_key.prm
 check unknown-key 2 "frobnication" "$GRANFLOW" run unknown_key.prm --output keep --quiet
 check unknown-key-names-file 2 "granflow: error: unknown_key.prm: line 4: unknown entry" "$GRANFLOW" run unknown_key.prm --output keep --quiet
@@ -293,14 +295,14 @@ bad boundary-list-trailing-comma "Boundary conditions/No-slip': 'bottom, top,' h
   --set "Boundary conditions/No-slip=bottom, top,"
 bad pressure-list-empty-item "Boundary conditions/External pressure': ', left: 1' has an empty item" \
   --set "Boundary conditions/External pressure=, left: 1"
-bad mu-negative "Rheology/mu=-0.1: value '-0.1' is invalid: expected a number in [0, 1)" --set "Rheology/mu=-0.1"
+bad_value mu-negative "Rheology/mu" "-0.1" "a number in [0, 1)"
 # In 2D mu = sin(phi) < 1; both solvers failed on a closed hopper at mu = 2.
-bad mu-one "Rheology/mu=1: value '1' is invalid: expected a number in [0, 1)" --set "Rheology/mu=1"
-bad Bi-negative "Rheology/Bi=-1: value '-1' is invalid: expected a number in [0, inf)" --set "Rheology/Bi=-1"
-bad Re-zero "Rheology/Re=0: value '0' is invalid: expected a number in (0, 1e+06]" --set "Rheology/Re=0"
-bad Re-negative "Rheology/Re=-2: value '-2' is invalid: expected a number in (0, 1e+06]" --set "Rheology/Re=-2"
-bad mesh-size-zero "Geometry/Mesh size=0: value '0' is invalid: expected a number > 0" --set "Geometry/Mesh size=0"
-bad mesh-size-negative "Geometry/Mesh size=-0.1: value '-0.1' is invalid: expected a number > 0" --set "Geometry/Mesh size=-0.1"
+bad_value mu-one "Rheology/mu" "1" "a number in [0, 1)"
+bad_value Bi-negative "Rheology/Bi" "-1" "a number in [0, inf)"
+bad_value Re-zero "Rheology/Re" "0" "a number in (0, 1e+06]"
+bad_value Re-negative "Rheology/Re" "-2" "a number in (0, 1e+06]"
+bad_value mesh-size-zero "Geometry/Mesh size" "0" "a number > 0"
+bad_value mesh-size-negative "Geometry/Mesh size" "-0.1" "a number > 0"
 bad missing-mesh-file "entry 'Geometry/Mesh file': cannot read the mesh file '$PWD/no_such_mesh.msh': no such file" --set "Geometry/Shape=file" --set "Geometry/Mesh file=no_such_mesh.msh"
 # ... named with the directory it was looked for in: a --set file name is relative to the working
 # directory (a case file's to the case file's).
@@ -309,7 +311,7 @@ bad missing-mesh-file-says-where "cannot read the mesh file '$PWD/no_such_mesh.m
 bad missing-boundary "entry 'Boundary conditions/No-slip': the mesh has no boundary named 'lid': its boundaries are 'bottom', 'inlet', 'outlet', 'top'" --set "Boundary conditions/No-slip=bottom, lid"
 bad interior-point-needs-mu-or-Bi "Solver/Method': = interior point needs Rheology/mu > 0 or Rheology/Bi > 0" --set "Solver/Method=interior point" \
   --set "Rheology/Bi=0"
-bad Re-too-large "Rheology/Re=1e200: value '1e200' is invalid: expected a number in (0, 1e+06]" --set "Rheology/Re=1e200"
+bad_value Re-too-large "Rheology/Re" "1e200" "a number in (0, 1e+06]"
 bad refinements-too-many "entry 'Geometry/Global refinements': = 7 gives 4.79724e+07 triangles (from 2928): expected at most 1e7" --set "Geometry/Global refinements=7"
 bad gravity-not-finite "entry 'Gravity direction': 'nan, 1' is not a point: expected 'x, y' (finite numbers)" --set "Gravity direction=nan, 1"
 bad gravity-empty-item "'1,,0' is not a point" --set "Gravity direction=1,,0"
@@ -477,7 +479,7 @@ bad zero-normal-velocity-missing-boundary "entry 'Boundary conditions/Zero norma
 bad zero-tangential-velocity-leaves-rigid-motion "the velocity can still translate along (1, 0)" \
   --set "Boundary conditions/No-slip=" --set "Boundary conditions/Zero y-velocity=" \
   --set "Boundary conditions/Zero tangential velocity=inlet, outlet" --set "Output/Reference=none"
-bad viscosity-tolerance-zero "Solver/Viscosity tolerance=0: value '0' is invalid: expected a number > 0" --set "Solver/Viscosity tolerance=0"
+bad_value viscosity-tolerance-zero "Solver/Viscosity tolerance" "0" "a number > 0"
 bad missing-boundary-names-entry "entry 'Boundary conditions/No-slip': the mesh has no boundary named" --set "Boundary conditions/No-slip=bottom, lid"
 check silo-without-outlet-extension 2 "has an outlet_wall only below its outlet, when Geometry/Outlet extension > 0" \
   "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" --output keep --quiet \
@@ -553,7 +555,7 @@ check max-seconds 3 "was stopped by Solver/Max seconds = 0.5 at residual" timeou
 # ... and says after how many iterations (it printed "after 1." for any count: a function streamed)
 if grep -Eq "\) after [0-9]+ iterations?\. The iterate" err.txt; then pass "max-seconds-names-the-iterations"
 else fail "max-seconds-names-the-iterations"; cat err.txt; fi
-bad max-seconds-negative "Solver/Max seconds=-1: value '-1' is invalid: expected a number in [0, inf)" --set "Solver/Max seconds=-1"
+bad_value max-seconds-negative "Solver/Max seconds" "-1" "a number in [0, inf)"
 
 # Ctrl-C / SIGTERM: the run stops at its next iteration, writes what it has (summary.json says
 # "interrupted": true; a process killed before the handler would have none) and exits with
@@ -600,19 +602,20 @@ fi
 ngf_case="$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm"
 check ngf-print-parameters 0 "set mu_s" "$GRANFLOW" print-parameters ngf
 ngf_bad() { check "ngf-$1" 2 "$2" "$GRANFLOW" run "$ngf_case" --output keep --quiet "${@:3}"; }
-ngf_bad shear-modulus-zero "Material/Shear modulus=0: value '0' is invalid: expected a number > 0" --set "Material/Shear modulus=0"
-ngf_bad shear-modulus-negative "Material/Shear modulus=-1e6: value '-1e6' is invalid: expected a number > 0" --set "Material/Shear modulus=-1e6"
-ngf_bad bulk-modulus-zero "Material/Bulk modulus=0: value '0' is invalid: expected a number > 0" --set "Material/Bulk modulus=0"
-ngf_bad bulk-modulus-negative "Material/Bulk modulus=-1: value '-1' is invalid: expected a number > 0" --set "Material/Bulk modulus=-1"
-ngf_bad d-zero "Material/Grain diameter=0: value '0' is invalid: expected a number > 0" --set "Material/Grain diameter=0"
-ngf_bad d-negative "Material/Grain diameter=-1e-3: value '-1e-3' is invalid: expected a number > 0" --set "Material/Grain diameter=-1e-3"
-ngf_bad rho-zero "Material/Grain density=0: value '0' is invalid: expected a number > 0" --set "Material/Grain density=0"
-ngf_bad rho-negative "Material/Grain density=-2450: value '-2450' is invalid: expected a number > 0" --set "Material/Grain density=-2450"
-ngf_bad A-zero "Material/A=0: value '0' is invalid: expected a number > 0" --set "Material/A=0"
-ngf_bad A-negative "Material/A=-0.48: value '-0.48' is invalid: expected a number > 0" --set "Material/A=-0.48"
-ngf_bad mu_s-zero "Material/mu_s=0: value '0' is invalid: expected a number in (0, 1)" --set "Material/mu_s=0"
-ngf_bad mu_s-one "Material/mu_s=1: value '1' is invalid: expected a number in (0, 1)" --set "Material/mu_s=1"
-ngf_bad mu_s-above-one "Material/mu_s=1.5: value '1.5' is invalid: expected a number in (0, 1)" --set "Material/mu_s=1.5"
+ngf_bad_value() { ngf_bad "$1" "$2=$3: value '$3' is invalid: expected $4" --set "$2=$3"; }
+ngf_bad_value shear-modulus-zero "Material/Shear modulus" "0" "a number > 0"
+ngf_bad_value shear-modulus-negative "Material/Shear modulus" "-1e6" "a number > 0"
+ngf_bad_value bulk-modulus-zero "Material/Bulk modulus" "0" "a number > 0"
+ngf_bad_value bulk-modulus-negative "Material/Bulk modulus" "-1" "a number > 0"
+ngf_bad_value d-zero "Material/Grain diameter" "0" "a number > 0"
+ngf_bad_value d-negative "Material/Grain diameter" "-1e-3" "a number > 0"
+ngf_bad_value rho-zero "Material/Grain density" "0" "a number > 0"
+ngf_bad_value rho-negative "Material/Grain density" "-2450" "a number > 0"
+ngf_bad_value A-zero "Material/A" "0" "a number > 0"
+ngf_bad_value A-negative "Material/A" "-0.48" "a number > 0"
+ngf_bad_value mu_s-zero "Material/mu_s" "0" "a number in (0, 1)"
+ngf_bad_value mu_s-one "Material/mu_s" "1" "a number in (0, 1)"
+ngf_bad_value mu_s-above-one "Material/mu_s" "1.5" "a number in (0, 1)"
 ngf_bad fluidity-boundary-missing "names boundary 'lid', which the shear column lacks: expected wall or bottom" --set "Fluidity boundary conditions/Dirichlet=lid: 0"
 # An empty item in a list of boundaries is a typo (it was passed over without a word).
 ngf_bad fluidity-list-empty-item "Fluidity boundary conditions/Neumann': 'top: 0,, bottom: 0' has an empty item" \
@@ -638,7 +641,7 @@ ngf_bad fluidity-nan "finite" --set "Fluidity boundary conditions/Dirichlet=wall
 ngf_bad fd-reference-of-local-model "Output/Reference" --set "Solver/Fluidity=local"
 ngf_bad fd-reference-unsolvable "the 1D reduction cannot be solved" --set "Material/b=1e300"
 ngf_bad too-many-elements "at most 1e6" --set "Geometry/Depth=1e300"
-ngf_bad tolerance-too-loose "Solver/Tolerance=0.5: value '0.5' is invalid: expected a number in (0, 0.001]" --set "Solver/Tolerance=0.5"
+ngf_bad_value tolerance-too-loose "Solver/Tolerance" "0.5" "a number in (0, 0.001]"
 ngf_bad first-increment-above-max "entry 'Solver/First increment': = 1: expected at most Solver/Max increment = 0.01" --set "Solver/First increment=1"
 ngf_bad blames-the-set "granflow: error: --set Material/mu_s=0: value" --set "Material/mu_s=0"
 # An entry the shape ignores is refused (the annulus row's pressure is its Confining pressure).
