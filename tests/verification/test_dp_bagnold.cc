@@ -64,8 +64,9 @@ TEST_P(Bagnold, VelocityAndShearRateMatchTheAnalyticProfile)
       ++rows;
     }
   ASSERT_GT(rows, 50);
-  // The issue asks for 2 %. Measured: velocity 1.08e-4 and shear rate 1.07e-3 at Re = 1 (1.06e-4,
-  // 1.06e-3 at Re = 2); bounds of 5e-4 and 5e-3 show a regression far inside the issue's.
+  // The issue asks for 2 %. Measured (session 31): velocity 1.13e-4 and shear rate 1.05e-3 at
+  // Re = 1 (1.07e-4, 1.06e-3 at Re = 2); bounds of 5e-4 and 5e-3 show a regression far inside
+  // the issue's.
   EXPECT_LE(err_u / max_u, 5e-4);
   EXPECT_LE(err_du / max_du, 5e-3);
   // The summary's own comparison uses the same analytic solution.

@@ -254,8 +254,9 @@ namespace granflow::dp::detail
         w << std::setprecision(3)
           << "|D(u)| is below Rheology/Viscosity floor = " << prm.rheology.viscosity_floor << " on "
           << 100. * floored_fraction
-          << " % of the domain, where the viscosity is the floor's, not Bagnold's eta = |D(u)|: "
-             "the flow there is not the Bagnold law's (lower the floor)";
+          << " % of the domain, where the viscosity is the floor's, not Bagnold's eta = |D(u)|. "
+             "Where the material is rigid this does not matter; where it flows, its flow is the "
+             "floor's, not the Bagnold law's (lower the floor if that flow matters)";
         report.warn(w.str());
       }
     if (!stats.converged)

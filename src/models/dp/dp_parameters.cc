@@ -206,8 +206,9 @@ namespace granflow::dp
                         "Fixed-point iterations on eta(x) (bagnold), >= 1.", Integer(1));
       prm.add_parameter(
           "Viscosity tolerance", s.viscosity_tolerance,
-          "Relative change of the viscosity eta = |D(u)| (bagnold) between two solves (L2 over "
-          "the domain) that ends the eta fixed point, > 0.",
+          "The eta fixed point (bagnold) ends when eta = |D(u)| of a solve's velocity differs "
+          "from the viscosity that solve used by less than this (relative, L2 over the "
+          "domain), > 0.",
           Interval::positive());
       prm.add_parameter("Dump cone problem", s.dump_cone_problem,
                         "If set, the cone problem is written to this file: a name relative to the "

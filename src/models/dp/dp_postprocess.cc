@@ -255,8 +255,10 @@ namespace granflow::dp::detail
             {
               std::ostringstream w;
               w << std::setprecision(3) << "the reference " << what
-                << " is 0 all along the profile line, so its relative error is not defined (null "
-                   "in max_rel_error"
+                << (std::isnan(largest) ? " is not a number on the profile line (is the line "
+                                          "outside the layer the reference describes?)"
+                                        : " is 0 all along the profile line")
+                << ", so its relative error is not defined (null in max_rel_error"
                 << (std::string(what) == "velocity" ? "" : "_shear")
                 << "); the largest difference is " << error;
               report.warn(w.str());
@@ -317,8 +319,12 @@ namespace granflow::dp::detail
                 std::ostringstream w;
                 w << std::setprecision(3) << "the sheared layer by each wall, 1 - Bi = " << 1. - Bi
                   << ", spans " << (1. - Bi) / h << " elements (longest edge h = " << h
-                  << "): the mesh does not resolve it, and max_rel_error is " << max_err / max_ref
-                  << "; refine (Geometry/Mesh size or Global refinements)";
+                  << "): the mesh does not resolve it, and max_rel_error is ";
+                if (max_ref > 0.)
+                  w << max_err / max_ref;
+                else
+                  w << "not defined";
+                w << "; refine (Geometry/Mesh size or Global refinements)";
                 report.warn(w.str());
               }
             S["plug"] = {{"points", plug_points},
