@@ -84,25 +84,6 @@ namespace granflow::dp::detail
     return stats;
   }
 
-  /// Daviet 6.1.3: eta = |D(u)| = sqrt(D:D / 2) at the quadrature points of a(., .), bounded
-  /// below by the viscosity floor (eta -> 0 at the free surface would make A singular).
-  std::vector<double>
-  Problem::viscosity_from_velocity() const
-  {
-    FEValues<dim>                        fv(mapping, fe_u, quadrature, update_gradients);
-    const FEValuesExtractors::Vector     velocity(0);
-    std::vector<SymmetricTensor<2, dim>> D(quadrature.size());
-    std::vector<double>                  eta;
-    for (const auto &cell : dof_u.active_cell_iterators())
-      {
-        fv.reinit(cell);
-        fv[velocity].get_function_symmetric_gradients(u, D);
-        for (const auto &d : D)
-          eta.push_back(bagnold_viscosity(d));
-      }
-    return eta;
-  }
-
   Problem::ViscosityChange
   Problem::viscosity_change(const std::vector<double> &eta_used) const
   {
@@ -110,6 +91,7 @@ namespace granflow::dp::detail
     const FEValuesExtractors::Vector     velocity(0);
     std::vector<SymmetricTensor<2, dim>> D(quadrature.size());
     double                               change = 0., size = 0., floored = 0., area = 0.;
+    std::vector<double>                  eta_of_u;
     std::size_t                          k = 0;
     for (const auto &cell : dof_u.active_cell_iterators())
       {
@@ -117,7 +99,7 @@ namespace granflow::dp::detail
         fv[velocity].get_function_symmetric_gradients(u, D);
         for (unsigned int q = 0; q < quadrature.size(); ++q, ++k)
           {
-            const double eta = bagnold_viscosity(D[q]);
+            const double eta = eta_of_u.emplace_back(bagnold_viscosity(D[q]));
             change += (eta - eta_used[k]) * (eta - eta_used[k]) * fv.JxW(q);
             size += eta * eta * fv.JxW(q);
             if (eta <= prm.rheology.viscosity_floor)
@@ -125,7 +107,8 @@ namespace granflow::dp::detail
             area += fv.JxW(q);
           }
       }
-    return {std::sqrt(change / size), floored / area}; // eta >= the viscosity floor > 0
+    return {std::sqrt(change / size), floored / area, // eta >= the viscosity floor > 0
+            std::move(eta_of_u)};
   }
 
   Results
@@ -201,9 +184,8 @@ namespace granflow::dp::detail
         // Geometric relaxation eta <- sqrt(eta |D(u)|): in a flowing layer the stress does not
         // depend on eta and u scales like 1/eta, so the plain update eta <- |D(u)| cycles
         // between two states; the geometric mean is its fixed point.
-        const std::vector<double> eta_new = viscosity_from_velocity();
         for (std::size_t k = 0; k < eta.size(); ++k)
-          eta[k] = std::sqrt(eta[k] * eta_new[k]);
+          eta[k] = std::sqrt(eta[k] * c.eta_of_u[k]);
       }
 
     // The Bagnold viscosity loop ends on its tolerance or its iteration limit; the run has

@@ -247,7 +247,8 @@ namespace granflow::dp::detail
         const double nan = std::numeric_limits<double>::quiet_NaN();
         // relative to the reference's largest value on the line; null where it is 0 there (a
         // line along a no-slip wall, the shear rate across a plug)
-        S["max_rel_error"]       = max_ref > 0. ? max_err / max_ref : nan;
+        const double rel_error   = max_ref > 0. ? max_err / max_ref : nan;
+        S["max_rel_error"]       = rel_error;
         S["max_rel_error_shear"] = max_shear_ref > 0. ? max_shear_err / max_shear_ref : nan;
         for (const auto &[what, largest, error] : {std::tuple{"velocity", max_ref, max_err},
                                                    {"shear rate", max_shear_ref, max_shear_err}})
@@ -320,10 +321,10 @@ namespace granflow::dp::detail
                 w << std::setprecision(3) << "the sheared layer by each wall, 1 - Bi = " << 1. - Bi
                   << ", spans " << (1. - Bi) / h << " elements (longest edge h = " << h
                   << "): the mesh does not resolve it, and max_rel_error is ";
-                if (max_ref > 0.)
-                  w << max_err / max_ref;
-                else
+                if (std::isnan(rel_error))
                   w << "not defined";
+                else
+                  w << rel_error;
                 w << "; refine (Geometry/Mesh size or Global refinements)";
                 report.warn(w.str());
               }

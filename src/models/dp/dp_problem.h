@@ -182,8 +182,6 @@ namespace granflow::dp::detail
     set_residual_scale(const std::vector<double> &eta);
     solvers::ConeSolverStats
     solve_cone_problem();
-    std::vector<double>
-    viscosity_from_velocity() const;
     /// The Bagnold loop's state after a solve.
     struct ViscosityChange
     {
@@ -197,8 +195,12 @@ namespace granflow::dp::detail
       double relative = 0.;
       /// The fraction of the domain's area where |D(u)| is below the viscosity floor.
       double floored_area_fraction = 0.;
+      /// Daviet 6.1.3: eta(u) = |D(u)| = sqrt(D:D / 2) at the quadrature points of a(., .), cell
+      /// by cell, bounded below by the viscosity floor (eta -> 0 at the free surface would make
+      /// A singular): the loop's next viscosity comes from it.
+      std::vector<double> eta_of_u;
     };
-    /// eta_used per quadrature point, in viscosity_from_velocity()'s order.
+    /// eta_used per quadrature point of a(., .), cell by cell.
     ViscosityChange
     viscosity_change(const std::vector<double> &eta_used) const;
     /// Daviet 6.1.3: eta = |D(u)|, bounded below by the viscosity floor.
