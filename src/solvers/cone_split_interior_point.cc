@@ -146,7 +146,8 @@ namespace granflow::solvers
       double
       primal_residual() const
       {
-        return std::max(detail::norm_inf(r_N), detail::norm_inf(r_T));
+        const double normal = detail::norm_inf(r_N), tangential = detail::norm_inf(r_T);
+        return std::isnan(tangential) ? tangential : std::max(normal, tangential); // keeps a NaN
       }
 
       Block

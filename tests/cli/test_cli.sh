@@ -312,7 +312,9 @@ bad missing-boundary "entry 'Boundary conditions/No-slip': the mesh has no bound
 bad interior-point-needs-mu-or-Bi "Solver/Method': = interior point needs Rheology/mu > 0 or Rheology/Bi > 0" --set "Solver/Method=interior point" \
   --set "Rheology/Bi=0"
 bad_value Re-too-large "Rheology/Re" "1e200" "a number in (0, 1e+06]"
-bad refinements-too-many "entry 'Geometry/Global refinements': = 7 gives 4.79724e+07 triangles (from 2928): expected at most 1e7" --set "Geometry/Global refinements=7"
+# The count is the default mesh's as this machine's Gmsh makes it (out/, the first run's).
+triangles=$(/usr/bin/python3 -c "import json; print(json.load(open('out/summary.json'))['mesh']['triangles'])" 2>/dev/null)
+bad refinements-too-many "entry 'Geometry/Global refinements': = 7 gives $(printf '%g' "$((triangles * 16384))") triangles (from $triangles): expected at most 1e7" --set "Geometry/Global refinements=7"
 bad gravity-not-finite "entry 'Gravity direction': 'nan, 1' is not a point: expected 'x, y' (finite numbers)" --set "Gravity direction=nan, 1"
 bad gravity-empty-item "'1,,0' is not a point" --set "Gravity direction=1,,0"
 bad gravity-trailing-text "'1abc, 0' is not a point" --set "Gravity direction=1abc, 0"
@@ -323,9 +325,24 @@ bad profile-one-end-only "is set while Output/Profile start is empty: expected b
 # A line of zero length wrote 201 copies of one point, and 0/0 relative errors as null.
 bad profile-of-zero-length "'-0.5, 0.3' is the point Output/Profile start names: expected the other end of a line" \
   --set "Output/Profile start=-0.5, 0.3" --set "Output/Profile end=-0.5, 0.3"
-# U_infinity on a wall is 0 by its condition: a flowing channel was called jammed, C_D null.
-check inflow-boundary-on-a-wall 2 "'walls' is in Boundary conditions/No-slip, so no material crosses it: expected the boundary the material enters by" \
+# U_infinity on a wall is 0 by its condition: a flowing channel was called jammed, C_D null. So
+# on any boundary whose condition holds u . n at 0: Zero x-velocity on x = const, a Velocity
+# along the boundary; Zero y-velocity there leaves the inflow free (and the run flows).
+inflow_check() {
+  check "$1" "$2" "$3" "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/cylinder.prm" --output "$1" --quiet \
+    --set "Boundary conditions/External pressure=outlet: 0.5" "${@:4}"
+}
+check inflow-boundary-on-a-wall 2 "'walls' is in Boundary conditions/No-slip, which holds its normal velocity at 0, so no material crosses it: expected the boundary the material enters by" \
   "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/cylinder.prm" --output keep --quiet --set "Output/Inflow boundary=walls"
+inflow_check inflow-boundary-zero-normal-component 2 "'inlet' is in Boundary conditions/Zero x-velocity, which holds its normal velocity at 0" \
+  --set "Boundary conditions/Zero x-velocity=inlet"
+inflow_check inflow-boundary-velocity-along-it 2 "'inlet' is in Boundary conditions/Velocity, which holds its normal velocity at 0" \
+  --set "Boundary conditions/Velocity=inlet: (0, 0.3)"
+inflow_check inflow-boundary-zero-tangential-component 0 "Results in" \
+  --set "Boundary conditions/Zero y-velocity=inlet" --set "Solver/Tolerance=1e-3" --set "Output/Write vtu=false"
+if /usr/bin/python3 -c "import json,sys; s=json.load(open('inflow-boundary-zero-tangential-component/summary.json')); sys.exit(0 if s['U_infinity'] > 0.1 and s['drag_coefficient'] > 0 else 1)" 2>/dev/null; then
+  pass "inflow-boundary-zero-tangential-component-flows"
+else fail "inflow-boundary-zero-tangential-component-flows"; fi
 # Without Profile start and end a case samples the vertical line through the middle of its mesh's
 # bounding box (a case for the silo, the cylinder or a user mesh no longer has to set them).
 sed -e '/Profile start/d' -e '/Profile end/d' "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" >silo_noline.prm
@@ -395,6 +412,10 @@ bad physical-name-twice "has two physical curves named 'wall' (tags 1 and 2)" \
   --set "Geometry/Shape=file" --set "Geometry/Mesh file=same_name.msh"
 bad external-pressure-twice "names boundary 'inlet' a second time" --set "Boundary conditions/External pressure=inlet: 1, inlet: 3"
 bad external-pressure-on-no-slip "a No-slip boundary" --set "Boundary conditions/External pressure=top: 1"
+# Zero x-velocity holds the normal velocity of the x = const inlet (and leaves it free on y = const).
+bad external-pressure-on-zero-normal-component "on 'inlet', a Zero x-velocity boundary, where the normal velocity is prescribed" \
+  --set "Boundary conditions/Zero y-velocity=outlet" --set "Boundary conditions/Zero x-velocity=inlet" \
+  --set "Boundary conditions/External pressure=inlet: 1"
 bad drag-boundary-without-velocity-condition "'outlet' has no velocity condition" \
   --set "Boundary conditions/Zero y-velocity=inlet" --set "Output/Drag boundary=outlet"
 bad velocity-condition-twice "names 'top', which is also in Boundary conditions/No-slip" \
@@ -502,7 +523,7 @@ check missing-case 2 "nosuch.prm: cannot open the case file (no such readable fi
 check empty-output 2 "--output: empty directory name: expected a path" "$GRANFLOW" run "$case_file" --output ""
 echo "a file" >afile
 check output-is-a-file 2 "is not a directory" "$GRANFLOW" run "$case_file" --output afile --quiet
-bad dump-unwritable "cannot be written (filesystem error: cannot create directories: Not a directory" --set "Solver/Dump cone problem=$work/afile/cone.bin"
+bad dump-unwritable "cannot be written (cannot create the directory '$work/afile': Not a directory;" --set "Solver/Dump cone problem=$work/afile/cone.bin"
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then pass "nothing lost";
 else fail "bad input overwrote keep/summary.json"; fi
 
@@ -1024,7 +1045,9 @@ if ro touch ro_parent/dir/probe 2>/dev/null && ! ro touch ro_parent/probe 2>/dev
   if [ -s volume/summary.json ] && [ -s volume/notes.txt ]; then pass "output into a mount"
   else fail "output into a mount"; ls -a volume; fi
 else
-  skip "output-under-read-only-parent, output-is-a-mount" "no user namespace with bind mounts on this machine"
+  for name in output-under-read-only-parent "output under a read-only parent" output-is-a-mount "output into a mount"; do
+    skip "$name" "no user namespace with bind mounts on this machine"
+  done
 fi
 # A commit that fails before it moves anything (its manifest cannot be written) leaves the earlier
 # run's files and a manifest listing them; the next run removes what the earlier one wrote and this

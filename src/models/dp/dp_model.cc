@@ -46,22 +46,31 @@ namespace granflow::dp::detail
     };
     options.stop_requested = [] { return interrupt::requested(); };
     if (!prm.solver.dump_cone_problem.empty())
-      try
-        {
-          // relative to the output directory, subdirectories included
-          const std::filesystem::path dump = out.file(prm.solver.dump_cone_problem);
-          std::filesystem::create_directories(dump.parent_path());
-          write_file_atomically(
-              dump.string(), [&](std::ostream &file) { solvers::write_cone_problem(data, file); });
-        }
-      catch (const std::exception &e)
-        {
-          throw InputError(
-              prm.case_file, "Solver/Dump cone problem",
-              "= " + prm.solver.dump_cone_problem + ": cannot be written (" + e.what() +
-                  "; expected a file name, relative to the output directory, or a writable "
-                  "path)");
-        }
+      {
+        std::string why; // the system's reason, in its own words (strerror), not the library's
+        try
+          {
+            // relative to the output directory, subdirectories included
+            const std::filesystem::path dump = out.file(prm.solver.dump_cone_problem);
+            std::filesystem::create_directories(dump.parent_path());
+            write_file_atomically(dump.string(), [&](std::ostream &file) {
+              solvers::write_cone_problem(data, file);
+            });
+          }
+        catch (const std::filesystem::filesystem_error &e)
+          {
+            why = "cannot create the directory '" + e.path1().string() + "': " + e.code().message();
+          }
+        catch (const std::exception &e)
+          {
+            why = e.what();
+          }
+        if (!why.empty())
+          throw InputError(prm.case_file, "Solver/Dump cone problem",
+                           "= " + prm.solver.dump_cone_problem + ": cannot be written (" + why +
+                               "; expected a file name, relative to the output directory, or a "
+                               "writable path)");
+      }
     solvers::ConeSolverStats stats;
     try
       {

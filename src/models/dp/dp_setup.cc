@@ -158,6 +158,45 @@ namespace granflow::dp::detail
         throw InputError(prm.case_file, std::string("Boundary conditions/") + entry,
                          "names '" + name + "', which is also in Boundary conditions/" +
                              it->second + ": expected one velocity condition per boundary");
+    // The normal flux integral u_D . n that boundary `id`'s velocity condition prescribes, if
+    // it holds u . n on every face: No-slip, Velocity and Zero normal velocity do; Zero x- or
+    // y-velocity only where the boundary is normal to that axis (x = const or y = const).
+    struct NormalFlux
+    {
+      double flux;
+      bool   zero; // |flux| at most 1e-12 of |u_D| times the boundary's length
+    };
+    const auto prescribed_normal_flux =
+        [&](const types::boundary_id id,
+            const std::string       &condition) -> std::optional<NormalFlux> {
+      Tensor<1, dim> u_D;
+      for (const auto &[name, value] : velocities)
+        if (mesh.id(name, prm.case_file) == id && condition == "Velocity")
+          u_D = value;
+      const int fixed_axis = condition == "Zero x-velocity"   ? 0
+                             : condition == "Zero y-velocity" ? 1
+                                                              : -1;
+      if (condition == "Zero tangential velocity")
+        return std::nullopt;
+      const QGauss<dim - 1> face_quadrature(2);
+      FEFaceValues<dim>     fvf(mapping, fe_u, face_quadrature,
+                                update_normal_vectors | update_JxW_values);
+      double                flux = 0., length = 0.;
+      bool                  holds = true;
+      for_each_face_on(dof_u, id, fvf, [&](const auto &) {
+        for (unsigned int q = 0; q < face_quadrature.size(); ++q)
+          {
+            const Tensor<1, dim> n = fvf.normal_vector(q);
+            if (fixed_axis >= 0 && std::abs(n[1 - fixed_axis]) > 1e-9)
+              holds = false;
+            flux += (u_D * n) * fvf.JxW(q);
+            length += fvf.JxW(q);
+          }
+      });
+      if (!holds)
+        return std::nullopt;
+      return NormalFlux{flux, std::abs(flux) <= 1e-12 * u_D.norm() * length};
+    };
     // u = value on boundary `name`, in the components of `mask`. A dof already fixed keeps its
     // value: the homogeneous conditions come first, so a moving lid's end nodes on no-slip
     // walls stay at rest, and of two Velocity boundaries the one listed first wins.
@@ -196,9 +235,7 @@ namespace granflow::dp::detail
         // A pressure does work only through the normal velocity (free on a Zero x-velocity
         // boundary y = const, for example).
         if (condition != condition_of.end() &&
-            (std::string(condition->second) == "No-slip" ||
-             std::string(condition->second) == "Velocity" ||
-             std::string(condition->second) == "Zero normal velocity"))
+            prescribed_normal_flux(condition->first, condition->second))
           throw InputError(prm.case_file, "Boundary conditions/External pressure",
                            "on '" + name + "', a " + condition->second +
                                " boundary, where the normal velocity is prescribed and a "
@@ -249,15 +286,13 @@ namespace granflow::dp::detail
         // flowing channel "jammed" (C_D null) with exit 0.
         const auto id =
             mesh.id(prm.output.inflow_boundary, prm.case_file, "Output/Inflow boundary");
-        if (const auto condition = condition_of.find(id);
-            condition != condition_of.end() &&
-            (std::string(condition->second) == "No-slip" ||
-             std::string(condition->second) == "Zero normal velocity"))
-          throw InputError(prm.case_file, "Output/Inflow boundary",
-                           "'" + prm.output.inflow_boundary + "' is in Boundary conditions/" +
-                               condition->second +
-                               ", so no material crosses it: expected the boundary the material "
-                               "enters by");
+        if (const auto condition = condition_of.find(id); condition != condition_of.end())
+          if (const auto flux = prescribed_normal_flux(id, condition->second); flux && flux->zero)
+            throw InputError(prm.case_file, "Output/Inflow boundary",
+                             "'" + prm.output.inflow_boundary + "' is in Boundary conditions/" +
+                                 condition->second +
+                                 ", which holds its normal velocity at 0, so no material "
+                                 "crosses it: expected the boundary the material enters by");
       }
   }
 
