@@ -11,6 +11,8 @@
 # does, against the viscous stress of the strain rate (units of stress), which is stricter on
 # these meshes: 1e-6 is then reached on none but the coarsest.
 # METHODS (default "pg apgd spg ip") chooses the methods, METHODS=ip the interior point alone.
+# table2_summary.csv (printed too) gives per mesh the best time to the issue's 1e-6 and to
+# So-bogus's residual at 1e-6 and 1e-8 (our 1e-3 and 1e-4), and the paper's time over it.
 #   bench/silo_table2.sh [BUILD_DIR] [OUT_DIR] [LEVELS] [MAX_SECONDS] [UNITS]
 set -euo pipefail
 build=${1:-build} out=${2:-results/bench_silo_table2} levels=${3:-4}
@@ -34,4 +36,37 @@ for r in $(seq 0 $((levels - 1))); do
   rm -f "$run/cone_problem.bin"
 done
 echo "]" >>"$out/table2.json"
+# Beside the issue's measure (max_i |FB_i| <= 1e-6), the same times in So-bogus's measure, the
+# library of the paper's solvers: max_i |FB_i|^2 (SOCLaw::eval is the squared norm, and its
+# infinity norm takes the largest), so its 1e-6 and 1e-8 are our 1e-3 and 1e-4. The paper does
+# not state Table 2's tolerance (docs/dp.md, "Table 2's tolerance").
+/usr/bin/python3 - "$out/table2.json" "$out/table2_summary.csv" <<'PY'
+import csv, json, sys
+meshes = json.load(open(sys.argv[1]))
+levels = [("1e-06", "FB_inf<=1e-6"), ("0.001", "sobogus<=1e-6 (FB_inf<=1e-3)"),
+          ("0.0001", "sobogus<=1e-8 (FB_inf<=1e-4)")]
+rows = []
+for m in meshes:
+    for key, label in levels:
+        times = [(s["time_to_residual_s"].get(key), s["method"], s["inner_solver"])
+                 for s in m["solvers"] if "time_to_residual_s" in s]
+        reached = [t for t in times if t[0] is not None]
+        best = min(reached) if reached else None
+        rows.append({"mesh": m["mesh"], "vertices": m["vertices"], "residual": label,
+                     "paper_spg_time_s": m["paper_spg_time_s"],
+                     "best_time_s": "" if best is None else "%.3g" % best[0],
+                     "best_method": "" if best is None else (best[1] + " " + best[2]).strip(),
+                     "paper_over_best": "" if best is None else
+                                        "%.3g" % (m["paper_spg_time_s"] / best[0])})
+with open(sys.argv[2], "w", newline="") as f:
+    w = csv.DictWriter(f, fieldnames=list(rows[0]))
+    w.writeheader()
+    w.writerows(rows)
+print("%4s %8s  %-30s %8s %10s  %-18s %s" % ("mesh", "vertices", "residual", "paper_s",
+                                                "best_s", "method", "paper/best"))
+for r in rows:
+    print("%4s %8s  %-30s %8s %10s  %-18s %s" % (r["mesh"], r["vertices"], r["residual"],
+          r["paper_spg_time_s"], r["best_time_s"] or "never", r["best_method"],
+          r["paper_over_best"]))
+PY
 echo "$out/table2.json"

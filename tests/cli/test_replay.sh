@@ -91,6 +91,18 @@ check tune 0 '"interior_point.short_steps": 1.0' env \
 if grep -q '"stall_reason": "split form: 1 successive steps were shorter than 2 .*; then whole form: 1 successive steps were shorter than 2' out.txt &&
   grep -q '"fixed_point_iterations": 2,' out.txt; then pass "tunables reach the solver"
 else fail "tunables reach the solver"; cat out.txt; fi
+# Plain Algorithm 1 (no Anderson extrapolation; an options-level tunable) and the outer
+# iterations after which each residual decade was first reached: on this problem it reaches 1e-3
+# (in about 12 iterations, 1 s) and stalls near 7e-4, so a converged solve reaches its
+# tolerance's decade after its last iteration and never the next one.
+check tune-plain-fixed-point 0 '"fixed_point.anderson_depth": 0.0' env GRANFLOW_REPLAY_MAX_SECONDS=30 \
+  GRANFLOW_REPLAY_TUNE="fixed_point.anderson_depth=0" "$REPLAY" bagnold.bin 1e-3 spg
+if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))[0]
+n = r["iterations_to_residual"]
+assert r["converged"] and n["0.001"] == r["fixed_point_iterations"], r
+assert 0 < n["0.01"] <= n["0.001"] and n["0.0001"] is None, r' out.txt; then
+  pass "iterations to each residual decade"
+else fail "iterations to each residual decade"; cat out.txt; fi
 check tune-unknown 2 "GRANFLOW_REPLAY_TUNE: 'interior_point.short_stepz=2' is not name=value with a known name" \
   env GRANFLOW_REPLAY_TUNE="interior_point.short_stepz=2" "$REPLAY" bagnold.bin
 check tune-not-whole 2 "GRANFLOW_REPLAY_TUNE: fixed_point.spg_memory='2.5': expected a whole number" \
