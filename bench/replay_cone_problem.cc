@@ -292,9 +292,9 @@ main(int argc, char **argv)
   bool           failed  = false;
   for (const auto &name : names)
     {
-      nlohmann::json    entry = {{"method", name == "ip" ? "interior point" : "fixed point"},
-                                 {"inner_solver", name == "ip" ? "" : name},
-                                 {"residual_units", paper_units ? "paper" : "run"}};
+      nlohmann::json    entry   = {{"method", name == "ip" ? "interior point" : "fixed point"},
+                                   {"inner_solver", name == "ip" ? "" : name},
+                                   {"residual_units", paper_units ? "paper" : "run"}};
       ConeSolverOptions options = tuned;
       if (!tuned_json.empty())
         entry["tunables"] = tuned_json;
