@@ -28,8 +28,9 @@
 namespace
 {
   constexpr char usage[] =
-      "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg|ip ...]\n"
-      "  (ip: the interior point, split form then whole problem; default methods: pg apgd spg)\n"
+      "usage: replay_cone_problem PROBLEM.bin [tolerance] [pg|apgd|spg|ip|fp-ip ...]\n"
+      "  (ip: the interior point, split form then whole problem; fp-ip: the fixed point with\n"
+      "   interior-point inner solves; default methods: pg apgd spg)\n"
       "  (GRANFLOW_REPLAY_MAX_SECONDS limits each solve; GRANFLOW_REPLAY_LOG prints tables)\n"
       "  (GRANFLOW_REPLAY_UNITS=paper: the residual of Daviet (35), lambda against gamma with its\n"
       "   quadrature weight, instead of the run's units of stress)\n"
@@ -200,8 +201,8 @@ main(int argc, char **argv)
   for (int i = 3; i < argc; ++i)
     {
       const std::string name = argv[i];
-      if (name != "pg" && name != "apgd" && name != "spg" && name != "ip")
-        return bad_input("unknown method '" + name + "': expected pg, apgd, spg or ip");
+      if (name != "pg" && name != "apgd" && name != "spg" && name != "ip" && name != "fp-ip")
+        return bad_input("unknown method '" + name + "': expected pg, apgd, spg, ip or fp-ip");
       names.push_back(name);
     }
   if (names.empty())
@@ -293,7 +294,9 @@ main(int argc, char **argv)
   for (const auto &name : names)
     {
       nlohmann::json    entry   = {{"method", name == "ip" ? "interior point" : "fixed point"},
-                                   {"inner_solver", name == "ip" ? "" : name},
+                                   {"inner_solver", name == "ip"      ? ""
+                                                    : name == "fp-ip" ? "ip"
+                                                                      : name},
                                    {"residual_units", paper_units ? "paper" : "run"}};
       ConeSolverOptions options = tuned;
       if (!tuned_json.empty())
@@ -301,7 +304,7 @@ main(int argc, char **argv)
       if (name == "ip")
         options.method = ConeMethod::interior_point;
       else
-        options.inner_solver = parse_inner_solver(name);
+        options.inner_solver = parse_inner_solver(name == "fp-ip" ? "ip" : name);
       options.tolerance            = tolerance;
       options.residual             = ResidualKind::fischer_burmeister;
       options.max_outer_iterations = 1000;

@@ -55,9 +55,11 @@ namespace granflow::solvers
       using Matrix = typename S::Matrix;
 
     public:
-      InteriorPoint(const ConeProblemData &data, const ConeSolverOptions &options)
+      InteriorPoint(const ConeProblemData &data, const ConeSolverOptions &options,
+                    const std::vector<double> *frozen_s = nullptr)
           : data(data)
           , options(options)
+          , frozen_s(frozen_s)
           , n_u(data.A.n_rows)
           , n_points(data.n_points())
           , m(n_points * n)
@@ -91,7 +93,14 @@ namespace granflow::solvers
       residual()
       {
         evaluate(u, sl, z);
-        return cone_residual(data, options.residual, lambda_z, gamma_u);
+        if (!frozen_s)
+          return cone_residual(data, options.residual, lambda_z, gamma_u);
+        // The convex problem's Fischer-Burmeister residual, of lambda against gamma + s e_N: f_FB
+        // adds mu ||gamma_T|| to gamma_N itself, so it is given gamma_N + s - mu ||gamma_T||.
+        Vector g = gamma_u;
+        for (std::size_t i = 0; i < n_points; ++i)
+          g[i * n] += (*frozen_s)[i] - data.mu[i] * rheology::norm_T(block(gamma_u, i));
+        return cone_residual(data, ResidualKind::fischer_burmeister, lambda_z, g);
       }
 
       void
@@ -422,7 +431,7 @@ namespace granflow::solvers
         for (std::size_t i = 0; i < n_points; ++i)
           {
             const Block  g = block(gamma_u, i);
-            const double s = data.mu[i] * rheology::norm_T(g);
+            const double s = frozen_s ? (*frozen_s)[i] : data.mu[i] * rheology::norm_T(g);
             for (std::size_t a = 0; a < n; ++a)
               r_z[i * n + a] = (a == 0 ? g[0] + s : data.mu[i] * g[a]) - sl[i * n + a];
           }
@@ -505,8 +514,9 @@ namespace granflow::solvers
             const Block  g  = block(gamma_u, i);
             const double gt = rheology::norm_T(g);
             sigma[i]        = Block{};
-            for (std::size_t b = 1; b < n; ++b)
-              sigma[i][b] = gt > 0. ? data.mu[i] * g[b] / gt : 0.; // a subgradient at gamma_T = 0
+            if (!frozen_s) // a frozen s does not move with u
+              for (std::size_t b = 1; b < n; ++b)
+                sigma[i][b] = gt > 0. ? data.mu[i] * g[b] / gt : 0.; // a subgradient at gamma_T = 0
             S::nesterov_todd(block(sl, i), block(z, i), W[i], W_inv[i]);
             W_inv2[i] = S::multiply(W_inv[i], W_inv[i]);
             lambda[i] = S::apply(W[i], block(sl, i));
@@ -623,6 +633,7 @@ namespace granflow::solvers
 
       const ConeProblemData           &data;
       const ConeSolverOptions         &options;
+      const std::vector<double>       *frozen_s; // null: De Saxce's s(u) = mu ||gamma_T(u)||
       const std::size_t                n_u, n_points, m;
       detail::PointBlocks              blocks;
       CsrMatrix                        K;
@@ -649,5 +660,13 @@ namespace granflow::solvers
                                     ConeSolution &solution)
   {
     return detail::construct_and_solve<InteriorPoint>(data, options, solution);
+  }
+
+  ConeSolverStats
+  solve_frozen_cone_problem_interior_point(const ConeProblemData     &data,
+                                           const std::vector<double> &s,
+                                           const ConeSolverOptions &options, ConeSolution &solution)
+  {
+    return detail::construct_and_solve<InteriorPoint>(data, options, solution, &s);
   }
 } // namespace granflow::solvers

@@ -42,7 +42,8 @@ namespace granflow::solvers
   {
     projected_gradient, // PG with backtracking line search (Algorithm 2 + line search)
     apgd,               // Nesterov's accelerated projected gradient with restart (Heyn 2013)
-    spg                 // spectral projected gradient, Barzilai-Borwein steps (Tasora 2013)
+    spg,                // spectral projected gradient, Barzilai-Borwein steps (Tasora 2013)
+    interior_point      // the whole-form interior point on each convex step (4.4.2), mu > 0, Bi = 0
   };
 
   enum class ConeMethod
@@ -193,6 +194,16 @@ namespace granflow::solvers
   solve_cone_problem_interior_point(const ConeProblemData   &data,
                                     const ConeSolverOptions &options,
                                     ConeSolution            &solution);
+
+  /// The convex SOCQP (37)/(39) of one step of Cadoux's fixed point, De Saxce's term frozen at
+  /// s (one value per point): K_mu \ni lambda _|_ gamma + s e_N \in K_{1/mu}, by the whole-form
+  /// interior point with that s (its Newton matrix then symmetric quasi-definite). The residual
+  /// it stops on is this problem's Fischer-Burmeister residual; `solution.gamma` is H u + k.
+  ConeSolverStats
+  solve_frozen_cone_problem_interior_point(const ConeProblemData     &data,
+                                           const std::vector<double> &s,
+                                           const ConeSolverOptions   &options,
+                                           ConeSolution              &solution);
 
   /// The same problem by an interior point on the split form of the law (see
   /// InteriorPointTunables::split_form and cone_split_interior_point.cc), alone; same

@@ -300,6 +300,8 @@ namespace granflow::solvers
             case InnerSolver::spg:
               it = solve_spg(state, q, tolerance);
               break;
+            case InnerSolver::interior_point: // solve_fixed_point_interior_point's own loop
+              throw std::logic_error("the first-order inner solver cannot be the interior point");
           }
         last_residual = K.projected_gradient_norm(state.x, state.g);
         return it;
@@ -557,6 +559,74 @@ namespace granflow::solvers
       return stats;
     }
 
+    /// Cadoux's fixed point whose convex steps (37) are solved by the whole-form interior point
+    /// with s frozen (4.4.2; Table 2's interior-point row is this method): each step solved to
+    /// inner_tolerance_factor times the outer residual, s extrapolated by Anderson. The interior
+    /// point starts afresh at each step (it cannot use a warm start).
+    ConeSolverStats
+    solve_fixed_point_interior_point(const ConeProblemData &data, const ConeSolverOptions &options,
+                                     ConeSolution &solution)
+    {
+      detail::check_interior_point_scope(data, detail::InteriorPointForm::whole);
+      const std::size_t n = data.block_size, n_points = data.n_points();
+      ConeSolverStats   stats;
+      const auto        t1 = Clock::now();
+      if (options.log)
+        *options.log << "  Cadoux fixed point (interior point)\n"
+                     << "   iter      residual   inner      time[s]   inner-residual\n";
+      Vector               s(n_points, 0.), F_s(n_points, 0.);
+      AndersonAcceleration anderson(options.anderson_depth,
+                                    options.fixed_point.anderson_regularization);
+      detail::SolveMonitor monitor(options, stats);
+      ConeSolverOptions    inner = options;
+      inner.method               = ConeMethod::interior_point;
+      inner.log                  = nullptr;
+      inner.progress             = nullptr;
+      inner.max_outer_iterations = options.max_inner_iterations;
+      inner.tolerance            = options.fixed_point.inner_tolerance_floor * options.tolerance;
+      for (;;)
+        {
+          if (options.max_seconds > 0.)
+            inner.max_seconds = std::max(options.max_seconds - seconds_since(t1), 1e-3);
+          ConeSolution          step;
+          const ConeSolverStats in = solve_frozen_cone_problem_interior_point(data, s, inner, step);
+          stats.inner_iterations += in.outer_iterations;
+          stats.operator_applications += in.operator_applications;
+          if (step.u.empty())
+            break; // nothing to evaluate (a solve stopped before its first iterate)
+          if (monitor.record(cone_residual(data, options.residual, step.lambda, step.gamma),
+                             seconds_since(t1)))
+            solution = step;
+          if (options.log)
+            *options.log << std::setw(7) << stats.outer_iterations << std::setw(14)
+                         << std::scientific << std::setprecision(4) << stats.residual
+                         << std::setw(8) << stats.inner_iterations << std::setw(13) << std::fixed
+                         << std::setprecision(3) << stats.time_history.back() << std::setw(17)
+                         << std::scientific << std::setprecision(4) << in.residual << std::endl
+                         << std::defaultfloat;
+          // An inner solve cut short by the time limit returns a poor step: none is started that
+          // would, at the last one's duration, end past it.
+          if (monitor.finished(true))
+            break;
+          for (std::size_t i = 0; i < n_points; ++i)
+            {
+              std::array<double, 6> g{};
+              std::copy_n(step.gamma.begin() + i * n, n, g.begin());
+              F_s[i] = data.mu[i] * rheology::norm_T(g); // g's unused entries are 0
+            }
+          if (options.anderson_depth > 0 && stats.outer_iterations > 0)
+            anderson.update(s, F_s);
+          else
+            s = F_s;
+          inner.tolerance = std::max(options.inner_tolerance_factor * stats.residual,
+                                     options.fixed_point.inner_tolerance_floor * options.tolerance);
+          ++stats.outer_iterations;
+        }
+      stats.time_solve = seconds_since(t1);
+      stats.residual   = monitor.least_residual();
+      return stats;
+    }
+
     /// The interior point in the form InteriorPointTunables chooses: the split form, and, where it
     /// stalls, the whole form from its own start in the time left; the iterate of least residual
     /// is returned, and the statistics are the two solves' together.
@@ -650,6 +720,8 @@ namespace granflow::solvers
   {
     if (options.method == ConeMethod::interior_point)
       return solve_interior_point(data, options, solution);
+    if (options.inner_solver == InnerSolver::interior_point)
+      return solve_fixed_point_interior_point(data, options, solution);
     if (data.block_size == 3)
       return solve_blocks<3>(data, options, solution);
     if (data.block_size == 6)
@@ -676,7 +748,10 @@ namespace granflow::solvers
       return InnerSolver::apgd;
     if (name == "spg")
       return InnerSolver::spg;
-    throw std::invalid_argument("unknown inner solver '" + name + "': expected pg, apgd or spg");
+    if (name == "ip")
+      return InnerSolver::interior_point;
+    throw std::invalid_argument("unknown inner solver '" + name +
+                                "': expected pg, apgd, spg or ip");
   }
 
   ConeMethod
@@ -701,6 +776,8 @@ namespace granflow::solvers
           return "apgd";
         case InnerSolver::spg:
           return "spg";
+        case InnerSolver::interior_point:
+          return "ip";
       }
     return "?";
   }

@@ -212,10 +212,10 @@ namespace granflow::solvers::detail
   /// Method<block_size>(data, options).solve(solution), with the construction (the patterns,
   /// any factorisation of A) timed as stats.time_factorize, as the fixed point's factorisation
   /// of A is.
-  template <template <std::size_t> class Method>
+  template <template <std::size_t> class Method, typename... Extra>
   ConeSolverStats
   construct_and_solve(const ConeProblemData &data, const ConeSolverOptions &options,
-                      ConeSolution &solution)
+                      ConeSolution &solution, const Extra &...extra)
   {
     const auto t0  = std::chrono::steady_clock::now();
     const auto run = [&](auto &&method) {
@@ -226,9 +226,9 @@ namespace granflow::solvers::detail
       return stats;
     };
     if (data.block_size == 3)
-      return run(Method<3>(data, options));
+      return run(Method<3>(data, options, extra...));
     if (data.block_size == 6)
-      return run(Method<6>(data, options));
+      return run(Method<6>(data, options, extra...));
     throw std::invalid_argument("solve_cone_problem: block size must be 3 (2D) or 6 (3D)");
   }
 } // namespace granflow::solvers::detail

@@ -24,7 +24,7 @@ check no-arguments 2 "no problem file (usage: replay_cone_problem PROBLEM.bin" "
 check help 0 "GRANFLOW_REPLAY_MAX_SECONDS limits each solve" "$REPLAY" --help
 check bad-tolerance 2 "tolerance '1e-6x' is not a positive number" "$REPLAY" bagnold.bin 1e-6x
 check negative-tolerance 2 "tolerance '-1' is not a positive number" "$REPLAY" bagnold.bin -1
-check bad-method 2 "unknown method 'sgp': expected pg, apgd, spg or ip" "$REPLAY" bagnold.bin 1e-6 spg sgp
+check bad-method 2 "unknown method 'sgp': expected pg, apgd, spg, ip or fp-ip" "$REPLAY" bagnold.bin 1e-6 spg sgp
 check missing-file 2 "cannot read cone problem 'nope.bin'" "$REPLAY" nope.bin
 echo "not a dump" >junk.bin
 check not-a-dump 2 "is not a granflow cone problem dump" "$REPLAY" junk.bin
@@ -66,6 +66,17 @@ if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))
 assert "error" in r[0] and r[1]["converged"], r' out.txt; then
   pass "unsuited method leaves the others' results"
 else fail "unsuited method leaves the others' results"; cat out.txt; fi
+
+# The fixed point with interior-point steps (Table 2's interior-point row): it converges on the
+# Bagnold layer (15 steps, about 7 s), and refuses mu = Bi = 0 as the interior point does.
+check replay-fixed-point-ip-steps 0 '"inner_solver": "ip"' "$REPLAY" bagnold.bin 1e-5 fp-ip
+if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))[0]
+assert r["method"] == "fixed point" and r["converged"] and r["residual"] <= 1e-5, r
+assert r["inner_iterations"] > r["fixed_point_iterations"] > 1, r' out.txt; then
+  pass "fixed point with interior-point steps converges"
+else fail "fixed point with interior-point steps converges"; cat out.txt; fi
+check fixed-point-ip-steps-unsuited 3 "fp-ip: the interior point on the whole problem needs mu > 0 and Bi = 0" \
+  "$REPLAY" newtonian.bin 1e-6 fp-ip
 
 # Ctrl-C during a solve that cannot finish soon: the solve ends at its next iteration, the methods
 # after it are skipped, and what was measured is printed.

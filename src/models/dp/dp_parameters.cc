@@ -176,8 +176,10 @@ namespace granflow::dp
       prm.add_parameter(
           "Inner solver", s.inner_solver,
           "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
-          "spg (spectral projected gradient).",
-          Selection("pg|apgd|spg"));
+          "spg (spectral projected gradient), ip (interior point on each step, 4.4.2: "
+          "mu > 0 and Bi = 0; slower per step, but its steps are exact, and it reaches "
+          "tolerances where the first-order steps stall: docs/solvers.md).",
+          Selection("pg|apgd|spg|ip"));
       prm.add_parameter("Residual", s.residual,
                         "Stopping residual: fischer-burmeister (Bi = 0 points) or alart-curnier.",
                         Selection("fischer-burmeister|alart-curnier"));
@@ -269,6 +271,13 @@ namespace granflow::dp
       throw InputError(f, "Solver/Method",
                        "= interior point needs Rheology/mu > 0 or Rheology/Bi > 0 (at mu = Bi = 0 "
                        "the stress has no deviatoric part to solve for); use fixed point");
+    // Each step is the whole-form interior point's convex problem, which needs a cone with an
+    // interior and no truncation.
+    if (solvers::parse_cone_method(solver.method) == solvers::ConeMethod::fixed_point &&
+        solver.inner_solver == "ip" && !(rheology.mu > 0. && rheology.Bi == 0.))
+      throw InputError(f, "Solver/Inner solver",
+                       "= ip needs Rheology/mu > 0 and Rheology/Bi = 0 (its interior point solves "
+                       "the cones of DP(mu, 0)); use pg, apgd or spg");
     if (!solver.dump_cone_problem.empty() && OutputDirectory::is_run_file(solver.dump_cone_problem))
       throw InputError(f, "Solver/Dump cone problem",
                        "= " + solver.dump_cone_problem +
