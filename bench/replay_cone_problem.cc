@@ -36,7 +36,8 @@ namespace
       "   quadrature weight, instead of the run's units of stress)\n"
       "  (GRANFLOW_REPLAY_TUNE='interior_point.short_steps=10, fixed_point.spg_memory=20': the\n"
       "   solvers' tunables, FixedPointTunables and InteriorPointTunables in\n"
-      "   src/solvers/cone_problem.h, without recompiling)\n";
+      "   src/solvers/cone_problem.h, without recompiling; fixed_point.anderson_depth,\n"
+      "   .max_inner_iterations and .inner_tolerance_factor set the fixed point's own options)\n";
 
   /// A positive finite number written in full ("1e-6", not "1e-6x"), or nothing.
   std::optional<double>
@@ -179,9 +180,12 @@ main(int argc, char **argv)
 {
   using namespace granflow;
   using namespace granflow::solvers;
+  // First of all: a Ctrl-C that came before would be lost (a script's background job starts with
+  // SIGINT ignored); one that comes while the dump is read ends the first solve at once.
+  interrupt::install();
   if (argc < 2)
     return bad_input("no problem file (usage: replay_cone_problem PROBLEM.bin [tolerance] "
-                     "[pg|apgd|spg|ip ...]; --help for more)");
+                     "[pg|apgd|spg|ip|fp-ip ...]; --help for more)");
   if (std::string(argv[1]) == "--help")
     {
       std::cout << usage;
@@ -264,10 +268,13 @@ main(int argc, char **argv)
           catch (const std::exception &)
             {
             }
-          if (!(std::isfinite(value) && value >= 0.) ||
+          // An inner solve of no iterations would return its starting point at every step.
+          const double least = name == "fixed_point.max_inner_iterations" ? 1. : 0.;
+          if (!(std::isfinite(value) && value >= least) ||
               (it->count && (value != std::floor(value) || value > 1e9)))
             return bad_input("GRANFLOW_REPLAY_TUNE: " + name + "='" + text + "': expected " +
-                             (it->count ? "a whole number >= 0" : "a finite number >= 0"));
+                             (it->count ? "a whole number >= " : "a finite number >= ") +
+                             (least == 1. ? "1" : "0"));
           it->set(tuned, value);
           tuned_json[name] = value;
         }
@@ -288,7 +295,6 @@ main(int argc, char **argv)
   if (paper_units)
     data.gamma_scale.clear();
 
-  interrupt::install();
   nlohmann::json results = nlohmann::json::array();
   bool           failed  = false;
   for (const auto &name : names)

@@ -2,7 +2,7 @@
 # Daviet 6.4, Table 2: the creeping half-silo (P2-P1d, mu = 0.5, Re = 1, Bi = 0) on 4 uniformly
 # refined meshes; for each mesh and method (Cadoux fixed point with the inner solvers pg, apgd,
 # spg; ip, the interior point: its split form, then its whole form where that stalls; fp-ip, the
-# fixed point with interior-point steps, as Table 2's interior-point row), the wall
+# fixed point with interior-point steps, Table 2's interior-point row with Anderson), the wall
 # time to reach a Fischer-Burmeister residual (infinity norm) <= 1e-6, the fixed-point iterations
 # and the time per iteration, beside the paper's SPG times (13, 69, 144, 1098 s). Release build.
 # Each solve is limited to MAX_SECONDS (default 300): a solver that has not converged by then is

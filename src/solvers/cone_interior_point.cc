@@ -22,6 +22,8 @@
 // (alone it stalls at 1.9e-6 on the 673-vertex silo), so it is refined on the augmented system
 // until the componentwise backward error is below reduced_accuracy, and once refinement cannot
 // get there the augmented matrix itself is factorised (diagonal pivots) for the rest of the solve.
+// With s frozen at given values (solve_frozen_cone_problem_interior_point), sigma = 0 and the
+// problem is the convex step (37) of Cadoux's fixed point, which cone_solver.cc iterates on.
 #include "rheology/drucker_prager.h"
 #include "solvers/cone_problem.h"
 #include "solvers/interior_point_loop.h"

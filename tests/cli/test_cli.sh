@@ -315,6 +315,8 @@ bad_value Re-too-large "Rheology/Re" "1e200" "a number in (0, 1e+06]"
 # The fixed point's interior-point steps solve DP(mu, 0)'s cones: the Bingham channel is refused.
 bad ip-steps-need-mu-and-no-Bi "Solver/Inner solver': = ip needs Rheology/mu > 0 and Rheology/Bi = 0" \
   --set "Solver/Method=fixed point" --set "Solver/Inner solver=ip"
+bad ip-steps-need-no-Bi "Solver/Inner solver': = ip needs Rheology/mu > 0 and Rheology/Bi = 0" \
+  --set "Solver/Method=fixed point" --set "Solver/Inner solver=ip" --set "Rheology/mu=0.2"
 # The count is the default mesh's as this machine's Gmsh makes it (out/, the first run's).
 triangles=$(/usr/bin/python3 -c "import json; print(json.load(open('out/summary.json'))['mesh']['triangles'])" 2>/dev/null)
 bad refinements-too-many "entry 'Geometry/Global refinements': = 7 gives $(printf '%g' "$((triangles * 16384))") triangles (from $triangles): expected at most 1e7" --set "Geometry/Global refinements=7"

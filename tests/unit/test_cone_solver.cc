@@ -1,5 +1,5 @@
-// Cadoux fixed point + PG / APGD / SPG, and the interior-point method, on cone problems with a
-// known solution.
+// Cadoux fixed point + PG / APGD / SPG or interior-point steps, and the interior-point method, on
+// cone problems with a known solution.
 #include "rheology/drucker_prager.h"
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
@@ -21,6 +21,7 @@
 #include <random>
 #include <regex>
 #include <sstream>
+#include <tuple>
 
 using namespace granflow::solvers;
 
@@ -425,6 +426,8 @@ TEST(ConeFrozenInteriorPoint, TheFixedPointWithInteriorPointStepsAgreesWithTheFi
   for (const std::size_t block_size : {3u, 6u})
     {
       const double          tolerance = block_size == 3 ? 1e-8 : 1e-6;
+      // About 10 times the largest difference measured (3.9e-9 in 2D, 2.2e-7 in 3D).
+      const double          u_bound = block_size == 3 ? 5e-8 : 3e-6;
       const ConeProblemData data = coupled_random_problem(block_size, block_size == 3 ? 10 : 20);
       ConeSolverOptions     options;
       options.inner_solver = InnerSolver::interior_point;
@@ -434,8 +437,10 @@ TEST(ConeFrozenInteriorPoint, TheFixedPointWithInteriorPointStepsAgreesWithTheFi
       ConeSolution solution;
       const auto   stats = solve_cone_problem(data, options, solution);
       ASSERT_TRUE(stats.converged) << "block size " << block_size << "\n" << log.str();
-      EXPECT_GT(stats.inner_iterations, stats.outer_iterations)
+      EXPECT_NE(log.str().find("Cadoux fixed point (interior point)"), std::string::npos)
           << "the steps are interior-point solves";
+      EXPECT_EQ(stats.residual_history.size(), stats.outer_iterations + 1)
+          << "the starting iterate, then one residual per step";
       const std::vector<double> gamma = expect_velocity_of_stress(data, solution, 1e-9);
       if (block_size == 3) // written out for 2D blocks
         expect_complementarity(data, solution.lambda, gamma, 1e-7);
@@ -448,7 +453,7 @@ TEST(ConeFrozenInteriorPoint, TheFixedPointWithInteriorPointStepsAgreesWithTheFi
       ConeSolution reference;
       ASSERT_TRUE(solve_cone_problem(data, reference_options, reference).converged);
       for (std::size_t i = 0; i < data.A.n_rows; ++i)
-        EXPECT_NEAR(solution.u[i], reference.u[i], 100. * tolerance) << "block size " << block_size;
+        EXPECT_NEAR(solution.u[i], reference.u[i], u_bound) << "block size " << block_size;
 
       // Its scope is the whole-form interior point's: mu > 0 and Bi = 0 at every point.
       ConeProblemData bingham = data;
@@ -891,13 +896,17 @@ TEST(ConeSolverStop, AStopRequestEndsEitherMethodWithItsBestIterate)
   // A stop request (Ctrl-C in the command line) ends the solve at its next check, like the time
   // limit: not converged, stats.interrupted set, and a solution that is the least-residual
   // iterate (its stored residual is that of lambda and gamma returned).
+  // The fixed point is run with first-order (spg) and with interior-point steps.
   const ConeProblemData data = coupled_random_problem();
-  for (const auto &[method, split_form] :
-       {std::pair{ConeMethod::fixed_point, 0.}, std::pair{ConeMethod::interior_point, 0.},
-        std::pair{ConeMethod::interior_point, 1.}})
+  for (const auto &[method, split_form, inner] :
+       {std::tuple{ConeMethod::fixed_point, 0., InnerSolver::spg},
+        std::tuple{ConeMethod::fixed_point, 0., InnerSolver::interior_point},
+        std::tuple{ConeMethod::interior_point, 0., InnerSolver::spg},
+        std::tuple{ConeMethod::interior_point, 1., InnerSolver::spg}})
     {
       ConeSolverOptions options;
       options.method                    = method;
+      options.inner_solver              = inner;
       options.interior_point.split_form = split_form;
       options.tolerance      = 1e-14; // not reached in the two iterations allowed
       unsigned int polls     = 0;

@@ -1,7 +1,7 @@
 // The dp model: creeping flow of the DP(mu, Bi) rheology (Daviet & Bertails-Descoubes 2016,
 // Sections 4.1-4.5) with P2 velocity and P1d stress (constraints at quadrature points, Property 3)
 // or P1 stress (constraints at the nodes, trapezoidal rule 4.3.5), solved without regularisation by
-// the Cadoux fixed point with projected-gradient inner solvers.
+// the Cadoux fixed point (projected-gradient or interior-point steps) or an interior point.
 #pragma once
 
 #include "core/logger.h"

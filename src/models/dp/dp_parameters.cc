@@ -177,8 +177,8 @@ namespace granflow::dp
           "Inner solver", s.inner_solver,
           "Inner SOCQP solver: pg (projected gradient + line search), apgd (Nesterov), "
           "spg (spectral projected gradient), ip (interior point on each step, 4.4.2: "
-          "mu > 0 and Bi = 0; slower per step, but its steps are exact, and it reaches "
-          "tolerances where the first-order steps stall: docs/solvers.md).",
+          "mu > 0 and Bi = 0; far slower per step, each solved to 0.1 of the outer residual; "
+          "on a refined silo it got lower than the first-order steps: docs/solvers.md).",
           Selection("pg|apgd|spg|ip"));
       prm.add_parameter("Residual", s.residual,
                         "Stopping residual: fischer-burmeister (Bi = 0 points) or alart-curnier.",
@@ -195,8 +195,9 @@ namespace granflow::dp
       prm.add_parameter(
           "Max seconds", s.max_seconds,
           "Wall-time limit of each cone solve in seconds, >= 0 (0: none). The fixed point's "
-          "inner solver stops at it; the interior point starts no iteration that "
-          "would, at the last one's duration, end past it. A solve stopped by it "
+          "first-order inner solver stops at it; the interior point, and the fixed point with "
+          "ip steps, start no iteration or step that would, at the last one's duration, end "
+          "past it. A solve stopped by it "
           "keeps its iterate of least residual and the run exits with status 3.",
           Double(0.));
       prm.add_parameter(

@@ -69,7 +69,7 @@ namespace granflow::dp
   {
     std::string  stress_element        = "P1d"; // P1d (constraints at quadrature points) | P1 (at nodes)
     std::string  method                = "fixed point"; // fixed point | interior point
-    std::string  inner_solver          = "spg"; // pg | apgd | spg (fixed point)
+    std::string  inner_solver          = "spg";         // pg | apgd | spg | ip (fixed point)
     std::string  residual              = "fischer-burmeister"; // or alart-curnier
     // Solver tunables default to the solver's own defaults (one place, DESIGN.md style 6).
     double       tolerance             = solvers::ConeSolverOptions{}.tolerance;
