@@ -62,6 +62,7 @@ namespace
     std::string                                                         name;
     bool                                                                count; // a whole number
     std::function<void(granflow::solvers::ConeSolverOptions &, double)> set;
+    double least = 0.; // the smallest value accepted
   };
 
   template <typename Group, typename T>
@@ -79,12 +80,14 @@ namespace
   /// its inner solves (anderson_depth = 0 is the plain Algorithm 1 of the paper).
   template <typename T>
   Tunable
-  option_tunable(const char *name, T granflow::solvers::ConeSolverOptions::*field)
+  option_tunable(const char *name, T granflow::solvers::ConeSolverOptions::*field,
+                 const double least = 0.)
   {
     return {std::string("fixed_point.") + name, std::is_integral_v<T>,
             [=](granflow::solvers::ConeSolverOptions &o, const double v) {
               o.*field = static_cast<T>(v);
-            }};
+            },
+            least};
   }
 
   std::vector<Tunable>
@@ -98,7 +101,8 @@ namespace
     constexpr FixedPointTunables ConeSolverOptions::*fpg    = &ConeSolverOptions::fixed_point;
     constexpr InteriorPointTunables ConeSolverOptions::*ipg = &ConeSolverOptions::interior_point;
     return {option_tunable("anderson_depth", &ConeSolverOptions::anderson_depth),
-            option_tunable("max_inner_iterations", &ConeSolverOptions::max_inner_iterations),
+            // An inner solve of no iterations would return its starting point at every step.
+            option_tunable("max_inner_iterations", &ConeSolverOptions::max_inner_iterations, 1.),
             option_tunable("inner_tolerance_factor", &ConeSolverOptions::inner_tolerance_factor),
             tunable(fp, fpg, "stall_ratio", &F::stall_ratio),
             tunable(fp, fpg, "stalls_before_tightening", &F::stalls_before_tightening),
@@ -268,13 +272,14 @@ main(int argc, char **argv)
           catch (const std::exception &)
             {
             }
-          // An inner solve of no iterations would return its starting point at every step.
-          const double least = name == "fixed_point.max_inner_iterations" ? 1. : 0.;
-          if (!(std::isfinite(value) && value >= least) ||
+          if (!(std::isfinite(value) && value >= it->least) ||
               (it->count && (value != std::floor(value) || value > 1e9)))
-            return bad_input("GRANFLOW_REPLAY_TUNE: " + name + "='" + text + "': expected " +
-                             (it->count ? "a whole number >= " : "a finite number >= ") +
-                             (least == 1. ? "1" : "0"));
+            {
+              std::ostringstream expected;
+              expected << (it->count ? "a whole number >= " : "a finite number >= ") << it->least;
+              return bad_input("GRANFLOW_REPLAY_TUNE: " + name + "='" + text + "': expected " +
+                               expected.str());
+            }
           it->set(tuned, value);
           tuned_json[name] = value;
         }
@@ -299,18 +304,18 @@ main(int argc, char **argv)
   bool           failed  = false;
   for (const auto &name : names)
     {
-      nlohmann::json    entry   = {{"method", name == "ip" ? "interior point" : "fixed point"},
-                                   {"inner_solver", name == "ip"      ? ""
-                                                    : name == "fp-ip" ? "ip"
-                                                                      : name},
+      // ip: the interior point; the others name the fixed point's steps (fp-ip: "ip" ones).
+      const std::string inner   = name == "ip" ? "" : name == "fp-ip" ? "ip" : name;
+      nlohmann::json    entry   = {{"method", inner.empty() ? "interior point" : "fixed point"},
+                                   {"inner_solver", inner},
                                    {"residual_units", paper_units ? "paper" : "run"}};
       ConeSolverOptions options = tuned;
       if (!tuned_json.empty())
         entry["tunables"] = tuned_json;
-      if (name == "ip")
+      if (inner.empty())
         options.method = ConeMethod::interior_point;
       else
-        options.inner_solver = parse_inner_solver(name == "fp-ip" ? "ip" : name);
+        options.inner_solver = parse_inner_solver(inner);
       options.tolerance            = tolerance;
       options.residual             = ResidualKind::fischer_burmeister;
       options.max_outer_iterations = 1000;
