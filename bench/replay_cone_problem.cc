@@ -109,6 +109,8 @@ namespace
             tunable(fp, fpg, "max_inner_growth", &F::max_inner_growth),
             tunable(fp, fpg, "min_inner_tolerance_factor", &F::min_inner_tolerance_factor),
             tunable(fp, fpg, "inner_tolerance_floor", &F::inner_tolerance_floor),
+            tunable(fp, fpg, "stagnation_min_iterations", &F::stagnation_min_iterations),
+            tunable(fp, fpg, "stagnation_ratio", &F::stagnation_ratio),
             tunable(fp, fpg, "anderson_regularization", &F::anderson_regularization),
             tunable(fp, fpg, "norm_estimate_iterations", &F::norm_estimate_iterations),
             tunable(fp, fpg, "norm_margin", &F::norm_margin),

@@ -20,6 +20,15 @@ set -euo pipefail
 build=${1:-build} out=${2:-results/bench_silo_table2} levels=${3:-4}
 export GRANFLOW_REPLAY_MAX_SECONDS=${4:-300}
 export GRANFLOW_REPLAY_UNITS=${5:-paper}
+# The fixed point's stagnation rule (session 35) is off here, as in the measurements of
+# docs/dp.md: a solve goes on to MAX_SECONDS, the best residual it reaches in that time is what
+# the table reports. A GRANFLOW_REPLAY_TUNE of the caller that sets it wins.
+tune=${GRANFLOW_REPLAY_TUNE:-}
+case "$tune" in
+  *stagnation_min_iterations*) ;;
+  *) tune="fixed_point.stagnation_min_iterations=0${tune:+, $tune}" ;;
+esac
+export GRANFLOW_REPLAY_TUNE=$tune
 mkdir -p "$out"
 paper=(13 69 144 1098)
 echo "[" >"$out/table2.json"

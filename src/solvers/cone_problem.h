@@ -74,6 +74,13 @@ namespace granflow::solvers
     double       min_inner_tolerance_factor = 1e-4;
     /// The inner tolerance never goes below this fraction of ConeSolverOptions::tolerance.
     double inner_tolerance_floor = 1e-3;
+    /// The first-order fixed point ends as stalled once it has recorded at least
+    /// stagnation_min_iterations residuals and the least of the later half of them is above
+    /// stagnation_ratio times the least of the earlier half: such a run had oscillated or crawled
+    /// for the rest of its iteration limit (the Bagnold layer at tan alpha = 0.7 between 2.5e-5
+    /// and 5e-5 for 450 iterations; docs/solvers.md). 0 never ends it so.
+    unsigned int stagnation_min_iterations = 20;
+    double       stagnation_ratio          = 0.5;
     /// Tikhonov regularisation of Anderson's least-squares normal equations (relative).
     double anderson_regularization = 1e-10;
     /// ||W|| is estimated by this many power iterations, times norm_margin (an upper estimate
@@ -157,7 +164,7 @@ namespace granflow::solvers
   {
     bool         converged            = false;
     bool         interrupted           = false; // ended by options.stop_requested
-    bool         stalled               = false; // interior point: ended by its stagnation rules
+    bool         stalled               = false; // ended by the method's stagnation rules
     std::string  stall_reason;                  // which of them, in words
     bool         timed_out             = false; // ended by options.max_seconds
     unsigned int outer_iterations     = 0;

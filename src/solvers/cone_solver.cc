@@ -16,6 +16,7 @@
 #include <cmath>
 #include <iomanip>
 #include <ostream>
+#include <sstream>
 #include <stdexcept>
 
 namespace granflow::solvers
@@ -466,6 +467,26 @@ namespace granflow::solvers
         s = F_s;
     }
 
+    /// Why the first-order fixed point stagnates (FixedPointTunables::stagnation_min_iterations),
+    /// or "" while it does not: the least residual of the later half of the history is above
+    /// stagnation_ratio times that of the earlier half.
+    std::string
+    stagnation(const std::vector<double> &history, const FixedPointTunables &tune)
+    {
+      if (tune.stagnation_min_iterations == 0 || history.size() < tune.stagnation_min_iterations)
+        return "";
+      const auto   half   = history.begin() + history.size() / 2;
+      const double first  = *std::min_element(history.begin(), half);
+      const double second = *std::min_element(half, history.end());
+      if (!(second > tune.stagnation_ratio * first))
+        return "";
+      std::ostringstream s;
+      s << std::setprecision(3) << "the least residual of its last " << history.end() - half
+        << " iterations, " << second << ", is above " << tune.stagnation_ratio
+        << " times that of the " << half - history.begin() << " before them, " << first;
+      return s.str();
+    }
+
     template <std::size_t n>
     ConeSolverStats
     solve_blocks(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
@@ -526,6 +547,12 @@ namespace granflow::solvers
                          << std::defaultfloat;
           if (monitor.finished())
             break;
+          if (const std::string reason = stagnation(stats.residual_history, tune); !reason.empty())
+            {
+              stats.stalled      = true;
+              stats.stall_reason = reason;
+              break;
+            }
           // No progress: the extrapolation (built on inexact evaluations of F) is dropped first;
           // if the plain step stalls too, the inner solves are the suspects: one that hit its
           // iteration cap gets a higher cap, one that reached its tolerance a tighter tolerance

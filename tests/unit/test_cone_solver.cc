@@ -951,6 +951,50 @@ TEST(ConeSolverStop, TheTimeLimitEndsAnInnerSolve)
     }
 }
 
+TEST(ConeSolverStop, AStagnatingFixedPointEndsAsStalled)
+{
+  // A tolerance no iterate can reach (1e-300): the fixed point's residual falls to the level of
+  // rounding and stays there. It ends as stalled (FixedPointTunables::stagnation_min_iterations)
+  // once the least residual of the later half of its history is above half that of the earlier
+  // half, long before its iteration limit, with its best iterate; with the rule switched off it
+  // runs to that limit.
+  const ConeProblemData data = coupled_random_problem();
+  ConeSolverOptions     options;
+  options.inner_solver         = InnerSolver::projected_gradient;
+  options.tolerance            = 1e-300;
+  options.max_outer_iterations = 100; // it stalls after 41 (measured)
+  options.max_inner_iterations = 20;
+  ConeSolution solution;
+  auto         stats = solve_cone_problem(data, options, solution);
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_FALSE(stats.converged);
+  EXPECT_FALSE(stats.timed_out);
+  EXPECT_GE(stats.residual_history.size(), options.fixed_point.stagnation_min_iterations);
+  EXPECT_LT(stats.outer_iterations, options.max_outer_iterations);
+  EXPECT_NE(stats.stall_reason.find("the least residual of its last"), std::string::npos)
+      << stats.stall_reason;
+  // the rule's own test, recomputed from the history
+  const auto &h    = stats.residual_history;
+  const auto  half = h.begin() + h.size() / 2;
+  EXPECT_GT(*std::min_element(half, h.end()), 0.5 * *std::min_element(h.begin(), half));
+  EXPECT_DOUBLE_EQ(stats.residual, *std::min_element(h.begin(), h.end()));
+  EXPECT_DOUBLE_EQ(stats.residual,
+                   cone_residual(data, options.residual, solution.lambda, solution.gamma));
+  // one iteration earlier the rule did not hold: it ends the solve at the first that it does
+  const std::vector<double> before(h.begin(), h.end() - 1);
+  if (before.size() >= options.fixed_point.stagnation_min_iterations)
+    {
+      const auto b = before.begin() + before.size() / 2;
+      EXPECT_LE(*std::min_element(b, before.end()),
+                0.5 * *std::min_element(before.begin(), b));
+    }
+
+  options.fixed_point.stagnation_min_iterations = 0;
+  stats                                         = solve_cone_problem(data, options, solution);
+  EXPECT_FALSE(stats.stalled);
+  EXPECT_EQ(stats.outer_iterations, options.max_outer_iterations);
+}
+
 TEST(ConeSolverStop, PredictionEndsWhereTheNextIterationWouldEndPastTheTimeLimit)
 {
   // The interior point's iterations (one factorisation each) cannot be interrupted, so its loop

@@ -299,7 +299,10 @@ namespace granflow::dp::detail
            "Solver/Tolerance, another mesh, "
         << (p1d ? "Solver/Stress element = P1 (slower per iteration; docs/dp.md#solver-limits) "
                 : "")
-        << "or Solver/Method = fixed point may. ";
+        << (interior_point ? "or Solver/Method = fixed point may. "
+            : prm.rheology.mu > 0. || prm.rheology.Bi > 0.
+                ? "or Solver/Method = interior point may. "
+                : "or another Solver/Inner solver may. ");
     else if (stats.timed_out)
       s << " was stopped by Solver/Max seconds = " << prm.solver.max_seconds << " at residual "
         << stats.residual << " (tolerance " << prm.solver.tolerance << ") after " << count << ". ";
