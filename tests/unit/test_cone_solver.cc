@@ -985,8 +985,7 @@ TEST(ConeSolverStop, AStagnatingFixedPointEndsAsStalled)
   if (before.size() >= options.fixed_point.stagnation_min_iterations)
     {
       const auto b = before.begin() + before.size() / 2;
-      EXPECT_LE(*std::min_element(b, before.end()),
-                0.5 * *std::min_element(before.begin(), b));
+      EXPECT_LE(*std::min_element(b, before.end()), 0.5 * *std::min_element(before.begin(), b));
     }
 
   options.fixed_point.stagnation_min_iterations = 0;
