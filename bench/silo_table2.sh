@@ -22,10 +22,11 @@ export GRANFLOW_REPLAY_MAX_SECONDS=${4:-300}
 export GRANFLOW_REPLAY_UNITS=${5:-paper}
 # The fixed point's stagnation rule (session 35) is off here, as in the measurements of
 # docs/dp.md: a solve goes on to MAX_SECONDS, the best residual it reaches in that time is what
-# the table reports. A GRANFLOW_REPLAY_TUNE of the caller that sets it wins.
+# the table reports. A GRANFLOW_REPLAY_TUNE of the caller that sets either of its tunables
+# (fixed_point.stagnation_min_iterations, fixed_point.stagnation_ratio) keeps it on.
 tune=${GRANFLOW_REPLAY_TUNE:-}
 case "$tune" in
-  *stagnation_min_iterations*) ;;
+  *fixed_point.stagnation_*) ;;
   *) tune="fixed_point.stagnation_min_iterations=0${tune:+, $tune}" ;;
 esac
 export GRANFLOW_REPLAY_TUNE=$tune

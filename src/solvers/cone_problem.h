@@ -60,7 +60,8 @@ namespace granflow::solvers
   };
 
   /// Tunables of Cadoux's fixed point and its inner solvers. The defaults are the values the
-  /// measurements of docs/solvers.md were made with; a case file does not set them.
+  /// measurements of docs/solvers.md were made with (but for the stagnation rule, which came after
+  /// most of them, in session 35); a case file does not set them.
   struct FixedPointTunables
   {
     /// An outer iteration stalls when its residual is above stall_ratio times the least before it.

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <iomanip>
+#include <limits>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -473,16 +474,26 @@ namespace granflow::solvers
     std::string
     stagnation(const std::vector<double> &history, const FixedPointTunables &tune)
     {
-      if (tune.stagnation_min_iterations == 0 || history.size() < tune.stagnation_min_iterations)
+      if (tune.stagnation_min_iterations == 0 ||
+          history.size() < std::max(tune.stagnation_min_iterations, 2u))
         return "";
+      // the least residual of a range, a NaN counting as infinite (a NaN first would hide the
+      // rest from std::min_element)
+      const auto least = [](const auto begin, const auto end) {
+        double m = std::numeric_limits<double>::infinity();
+        for (auto it = begin; it != end; ++it)
+          if (*it < m)
+            m = *it;
+        return m;
+      };
       const auto   half   = history.begin() + history.size() / 2;
-      const double first  = *std::min_element(history.begin(), half);
-      const double second = *std::min_element(half, history.end());
+      const double first  = least(history.begin(), half);
+      const double second = least(half, history.end());
       if (!(second > tune.stagnation_ratio * first))
         return "";
       std::ostringstream s;
       s << std::setprecision(3) << "the least residual of its last " << history.end() - half
-        << " iterations, " << second << ", is above " << tune.stagnation_ratio
+        << " iterates, " << second << ", is above " << tune.stagnation_ratio
         << " times that of the " << half - history.begin() << " before them, " << first;
       return s.str();
     }

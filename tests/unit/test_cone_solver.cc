@@ -989,6 +989,7 @@ TEST(ConeSolverStop, AStagnatingFixedPointEndsAsStalled)
     }
 
   options.fixed_point.stagnation_min_iterations = 0;
+  solution                                      = ConeSolution(); // the same cold start
   stats                                         = solve_cone_problem(data, options, solution);
   EXPECT_FALSE(stats.stalled);
   EXPECT_EQ(stats.outer_iterations, options.max_outer_iterations);

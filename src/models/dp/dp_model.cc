@@ -333,7 +333,7 @@ namespace granflow::dp::detail
               s << "did not fall below " << first << ", the least of the first " << half
                 << " (the least of the last " << history.size() - half << " was " << second << ")";
             s << ", so higher limits will not help";
-            if (prm.rheology.Bi == 0. && prm.rheology.mu > 0.)
+            if (prm.rheology.mu > 0. || prm.rheology.Bi > 0.)
               s << "; Solver/Method = interior point may). ";
             else
               s << "). ";
