@@ -250,6 +250,18 @@ namespace granflow::solvers
                 const std::vector<double> &lambda,
                 const std::vector<double> &gamma);
 
+  /// The least residual of the earlier and of the later half of a residual history (the later
+  /// half takes the extra entry of an odd count; a NaN counts as infinite): the test of the fixed
+  /// point's stagnation rule (FixedPointTunables::stagnation_ratio), which the dp model's exit
+  /// message applies too.
+  struct HistoryHalves
+  {
+    std::size_t earlier = 0, later = 0; // entries in each half
+    double      earlier_least = 0., later_least = 0.;
+  };
+  HistoryHalves
+  least_of_halves(const std::vector<double> &history);
+
   /// Binary dump and replay (sand6's d6_solvePrimal idea): the whole ConeProblemData, on streams
   /// (the files are the caller's: core::write_file_atomically, bench/replay_cone_problem).
   void

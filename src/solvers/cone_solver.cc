@@ -477,24 +477,13 @@ namespace granflow::solvers
       if (tune.stagnation_min_iterations == 0 ||
           history.size() < std::max(tune.stagnation_min_iterations, 2u))
         return "";
-      // the least residual of a range, a NaN counting as infinite (a NaN first would hide the
-      // rest from std::min_element)
-      const auto least = [](const auto begin, const auto end) {
-        double m = std::numeric_limits<double>::infinity();
-        for (auto it = begin; it != end; ++it)
-          if (*it < m)
-            m = *it;
-        return m;
-      };
-      const auto   half   = history.begin() + history.size() / 2;
-      const double first  = least(history.begin(), half);
-      const double second = least(half, history.end());
-      if (!(second > tune.stagnation_ratio * first))
+      const HistoryHalves h = least_of_halves(history);
+      if (!(h.later_least > tune.stagnation_ratio * h.earlier_least))
         return "";
       std::ostringstream s;
-      s << std::setprecision(3) << "the least residual of its last " << history.end() - half
-        << " iterates, " << second << ", is above " << tune.stagnation_ratio
-        << " times that of the " << half - history.begin() << " before them, " << first;
+      s << std::setprecision(3) << "the least residual of its last " << h.later << " iterates, "
+        << h.later_least << ", is above " << tune.stagnation_ratio << " times that of the "
+        << h.earlier << " before them, " << h.earlier_least;
       return s.str();
     }
 
@@ -771,6 +760,23 @@ namespace granflow::solvers
       return stats;
     }
   } // namespace
+
+  HistoryHalves
+  least_of_halves(const std::vector<double> &history)
+  {
+    // (std::min_element would stop at a NaN in first place)
+    const auto least = [](const auto begin, const auto end) {
+      double m = std::numeric_limits<double>::infinity();
+      for (auto it = begin; it != end; ++it)
+        if (*it < m)
+          m = *it;
+      return m;
+    };
+    const auto half = history.begin() + history.size() / 2;
+    return {static_cast<std::size_t>(half - history.begin()),
+            static_cast<std::size_t>(history.end() - half), least(history.begin(), half),
+            least(half, history.end())};
+  }
 
   ConeSolverStats
   solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)

@@ -314,24 +314,23 @@ namespace granflow::dp::detail
         // of the first oscillates or crawls (the Bagnold layer at tan alpha = 0.7: between
         // 2.5e-5 and 5e-5 for 450 iterations, where the interior point converges in 9 s),
         // and higher limits are no remedy.
-        const auto  &history = stats.residual_history;
-        const size_t half    = history.size() / 2;
-        double       first = 0., second = 0.;
-        bool         stagnating = false;
-        if (!interior_point && history.size() >= 20)
-          {
-            first      = *std::min_element(history.begin(), history.begin() + half);
-            second     = *std::min_element(history.begin() + half, history.end());
-            stagnating = second > 0.5 * first;
-          }
+        // The fixed point's own stagnation rule, applied to the whole history (the first-order
+        // steps end on it, the interior-point steps do not).
+        const solvers::FixedPointTunables rule;
+        const auto                       &history = stats.residual_history;
+        const auto                        halves  = solvers::least_of_halves(history);
+        const double                      first = halves.earlier_least, second = halves.later_least;
+        const bool                        stagnating = !interior_point &&
+                                history.size() >= rule.stagnation_min_iterations &&
+                                second > rule.stagnation_ratio * first;
         if (stagnating)
           {
-            s << "; over its last " << history.size() - half << " iterations the least residual ";
+            s << "; over its last " << halves.later << " iterations the least residual ";
             if (second < first)
               s << "fell only from " << first << " to " << second;
             else // rising ("fell from 1.8 to 11" read as a misprint)
-              s << "did not fall below " << first << ", the least of the first " << half
-                << " (the least of the last " << history.size() - half << " was " << second << ")";
+              s << "did not fall below " << first << ", the least of the first " << halves.earlier
+                << " (the least of the last " << halves.later << " was " << second << ")";
             s << ", so higher limits will not help";
             if (prm.rheology.mu > 0. || prm.rheology.Bi > 0.)
               s << "; Solver/Method = interior point may). ";
