@@ -167,6 +167,8 @@ namespace
             {"iterations_to_residual", iterations},
             {"converged", stats.converged},
             {"interrupted", stats.interrupted},
+            {"stalled", stats.stalled},
+            {"timed_out", stats.timed_out},
             {"residual", stats.residual},
             {"tolerance", tolerance},
             {"time_factorize_s", stats.time_factorize},

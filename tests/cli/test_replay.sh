@@ -100,7 +100,8 @@ check tune 0 '"interior_point.short_steps": 1.0' env \
   GRANFLOW_REPLAY_TUNE="interior_point.short_step=2, interior_point.short_steps=1" \
   "$REPLAY" bagnold.bin 1e-6 ip
 if grep -q '"stall_reason": "split form: 1 successive steps were shorter than 2 .*; then whole form: 1 successive steps were shorter than 2' out.txt &&
-  grep -q '"fixed_point_iterations": 2,' out.txt; then pass "tunables reach the solver"
+  grep -q '"fixed_point_iterations": 2,' out.txt && grep -q '"stalled": true,' out.txt &&
+  grep -q '"timed_out": false,' out.txt; then pass "tunables reach the solver"
 else fail "tunables reach the solver"; cat out.txt; fi
 # Plain Algorithm 1 (no Anderson extrapolation; an options-level tunable) and the outer
 # iterations after which each residual decade was first reached. With Anderson (the default) the
@@ -117,7 +118,8 @@ check tune-plain-fixed-point 0 '"fixed_point.anderson_depth": 0.0' env GRANFLOW_
   GRANFLOW_REPLAY_TUNE="fixed_point.anderson_depth=0" "$REPLAY" bagnold.bin 1e-4 spg
 if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))[0]
 n = r["iterations_to_residual"]
-assert not r["converged"] and 1e-4 < r["residual"] < 1e-3 and n["0.0001"] is None, r' out.txt; then
+assert not r["converged"] and 1e-4 < r["residual"] < 1e-3 and n["0.0001"] is None, r
+assert r["timed_out"] and not r["stalled"], r' out.txt; then
   pass "the plain fixed point stalls where Anderson's converges"
 else fail "the plain fixed point stalls where Anderson's converges"; cat out.txt; fi
 check tune-no-inner-iterations 2 "GRANFLOW_REPLAY_TUNE: fixed_point.max_inner_iterations='0': expected a whole number >= 1" \
