@@ -75,7 +75,7 @@ namespace granflow::solvers
     double       min_inner_tolerance_factor = 1e-4;
     /// The inner tolerance never goes below this fraction of ConeSolverOptions::tolerance.
     double inner_tolerance_floor = 1e-3;
-    /// The first-order fixed point ends as stalled once it has recorded at least
+    /// The fixed point (any inner solver) ends as stalled once it has recorded at least
     /// stagnation_min_iterations residuals and the least of the later half of them is above
     /// stagnation_ratio times the least of the earlier half: such a run had oscillated or crawled
     /// for the rest of its iteration limit (the Bagnold layer at tan alpha = 0.7 between 2.5e-5
@@ -252,8 +252,7 @@ namespace granflow::solvers
 
   /// The least residual of the earlier and of the later half of a residual history (the later
   /// half takes the extra entry of an odd count; a NaN counts as infinite): the test of the fixed
-  /// point's stagnation rule (FixedPointTunables::stagnation_ratio), which the dp model's exit
-  /// message applies too.
+  /// point's stagnation rule (FixedPointTunables::stagnation_ratio).
   struct HistoryHalves
   {
     std::size_t earlier = 0, later = 0; // entries in each half

@@ -468,8 +468,8 @@ namespace granflow::solvers
         s = F_s;
     }
 
-    /// Why the first-order fixed point stagnates (FixedPointTunables::stagnation_min_iterations),
-    /// or "" while it does not: the least residual of the later half of the history is above
+    /// Why the fixed point stagnates (FixedPointTunables::stagnation_min_iterations), or "" while
+    /// it does not: the least residual of the later half of the history is above
     /// stagnation_ratio times that of the earlier half.
     std::string
     stagnation(const std::vector<double> &history, const FixedPointTunables &tune)
@@ -657,6 +657,14 @@ namespace granflow::solvers
           // would, at the last one's duration, end past it.
           if (monitor.finished(true))
             break;
+          // The same stagnation rule as the first-order steps' (solve_blocks).
+          if (const std::string reason = stagnation(stats.residual_history, options.fixed_point);
+              !reason.empty())
+            {
+              stats.stalled      = true;
+              stats.stall_reason = reason;
+              break;
+            }
           next_s(data, K, step.gamma, options, stats.outer_iterations, anderson, s, F_s);
           inner.tolerance = std::max(options.inner_tolerance_factor * stats.residual,
                                      options.fixed_point.inner_tolerance_floor * options.tolerance);

@@ -995,6 +995,71 @@ TEST(ConeSolverStop, AStagnatingFixedPointEndsAsStalled)
   EXPECT_EQ(stats.outer_iterations, options.max_outer_iterations);
 }
 
+TEST(ConeSolverStop, AStagnatingFixedPointWithInteriorPointStepsEndsAsStalled)
+{
+  // The same rule ends the fixed point whose steps are interior-point solves: on a tolerance no
+  // iterate can reach, it stalls before its iteration limit, with its best iterate; with the rule
+  // off it runs to that limit.
+  const ConeProblemData data = coupled_random_problem();
+  ConeSolverOptions     options;
+  options.inner_solver         = InnerSolver::interior_point;
+  options.tolerance            = 1e-300;
+  options.max_outer_iterations = 60;
+  ConeSolution solution;
+  auto         stats = solve_cone_problem(data, options, solution);
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_FALSE(stats.converged);
+  EXPECT_LT(stats.outer_iterations, options.max_outer_iterations);
+  EXPECT_GE(stats.residual_history.size(), options.fixed_point.stagnation_min_iterations);
+  EXPECT_NE(stats.stall_reason.find("the least residual of its last"), std::string::npos)
+      << stats.stall_reason;
+  const HistoryHalves h = least_of_halves(stats.residual_history);
+  EXPECT_GT(h.later_least, options.fixed_point.stagnation_ratio * h.earlier_least);
+  EXPECT_DOUBLE_EQ(stats.residual, std::min(h.earlier_least, h.later_least));
+  EXPECT_DOUBLE_EQ(stats.residual,
+                   cone_residual(data, options.residual, solution.lambda, solution.gamma));
+
+  options.fixed_point.stagnation_min_iterations = 0;
+  solution                                      = ConeSolution();
+  stats                                         = solve_cone_problem(data, options, solution);
+  EXPECT_FALSE(stats.stalled);
+  EXPECT_EQ(stats.outer_iterations, options.max_outer_iterations);
+}
+
+TEST(ConeSolverStop, TheStagnationTestSplitsTheHistoryInHalves)
+{
+  // least_of_halves on made-up histories: the later half takes the extra entry of an odd count,
+  // a NaN counts as infinite wherever it stands, and an empty half has an infinite least.
+  const double inf = std::numeric_limits<double>::infinity();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  struct Case
+  {
+    std::vector<double> history;
+    std::size_t         earlier, later;
+    double              earlier_least, later_least;
+  };
+  const std::vector<Case> cases = {
+      {{}, 0, 0, inf, inf},
+      {{3.}, 0, 1, inf, 3.},
+      {{4., 2.}, 1, 1, 4., 2.},
+      {{5., 1., 3., 2., 4.}, 2, 3, 1., 2.}, // odd: 2 and 3
+      {{1., 9., 8., 7.}, 2, 2, 1., 7.},     // the least of each half, not the last
+      {{nan, 2., 3., 1.}, 2, 2, 2., 1.},    // a NaN first is not the least
+      {{2., nan, nan, nan}, 2, 2, 2., inf}, // a later half of NaN never gains
+      {{1e-3, 4e-4, 6e-4, 5e-4, 7e-4, 3e-4}, 3, 3, 4e-4, 3e-4}};
+  for (const auto &c : cases)
+    {
+      const HistoryHalves h = least_of_halves(c.history);
+      EXPECT_EQ(h.earlier, c.earlier) << c.history.size() << " entries";
+      EXPECT_EQ(h.later, c.later) << c.history.size() << " entries";
+      EXPECT_EQ(h.earlier_least, c.earlier_least) << c.history.size() << " entries";
+      EXPECT_EQ(h.later_least, c.later_least) << c.history.size() << " entries";
+    }
+  // The last case is one the rule (ratio 0.5) calls stagnating: 3e-4 is above half of 4e-4.
+  const HistoryHalves h = least_of_halves(cases.back().history);
+  EXPECT_GT(h.later_least, FixedPointTunables().stagnation_ratio * h.earlier_least);
+}
+
 TEST(ConeSolverStop, PredictionEndsWhereTheNextIterationWouldEndPastTheTimeLimit)
 {
   // The interior point's iterations (one factorisation each) cannot be interrupted, so its loop

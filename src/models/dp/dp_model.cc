@@ -308,39 +308,11 @@ namespace granflow::dp::detail
         << stats.residual << " (tolerance " << prm.solver.tolerance << ") after " << count << ". ";
     else
       {
+        // A fixed point that stagnates has ended as stalled (FixedPointTunables), above.
         s << " did not reach the tolerance " << prm.solver.tolerance << " (residual "
-          << stats.residual << " after " << count;
-        // A fixed point whose second half of iterations did not halve the least residual
-        // of the first oscillates or crawls (the Bagnold layer at tan alpha = 0.7: between
-        // 2.5e-5 and 5e-5 for 450 iterations, where the interior point converges in 9 s),
-        // and higher limits are no remedy.
-        // The fixed point's own stagnation rule, applied to the whole history (the first-order
-        // steps end on it, the interior-point steps do not).
-        const solvers::FixedPointTunables rule;
-        const auto                       &history = stats.residual_history;
-        const auto                        halves  = solvers::least_of_halves(history);
-        const double                      first = halves.earlier_least, second = halves.later_least;
-        const bool                        stagnating = !interior_point &&
-                                history.size() >= rule.stagnation_min_iterations &&
-                                second > rule.stagnation_ratio * first;
-        if (stagnating)
-          {
-            s << "; over its last " << halves.later << " iterations the least residual ";
-            if (second < first)
-              s << "fell only from " << first << " to " << second;
-            else // rising ("fell from 1.8 to 11" read as a misprint)
-              s << "did not fall below " << first << ", the least of the first " << halves.earlier
-                << " (the least of the last " << halves.later << " was " << second << ")";
-            s << ", so higher limits will not help";
-            if (prm.rheology.mu > 0. || prm.rheology.Bi > 0.)
-              s << "; Solver/Method = interior point may). ";
-            else
-              s << "). ";
-          }
-        else
-          s << "; raise "
-            << (interior_point ? "Solver/Max outer iterations). "
-                               : "Solver/Max outer iterations or Max inner iterations). ");
+          << stats.residual << " after " << count << "; raise "
+          << (interior_point ? "Solver/Max outer iterations). "
+                             : "Solver/Max outer iterations or Max inner iterations). ");
       }
     // The problem is dimensionless (23): a mesh drawn in mm is a silo of 1000 L.
     if (const double size = GridTools::diameter(mesh.triangulation);
