@@ -537,8 +537,10 @@ bad dump-unwritable "cannot be written (cannot create the directory '$work/afile
 if [ "$(cat keep/summary.json)" = "earlier result" ]; then pass "nothing lost";
 else fail "bad input overwrote keep/summary.json"; fi
 
-# A solver that cannot converge: exit 3, results so far kept and said so.
-check not-converged 3 "written to" "$GRANFLOW" run "$case_file" --output nc --quiet \
+# A solver that cannot converge: exit 3, results so far kept and said so, and the limit to raise
+# named (a run too short for the stagnation rule).
+check not-converged 3 "raise Solver/Max outer iterations or Max inner iterations). The iterate of least residual was written to" \
+  "$GRANFLOW" run "$case_file" --output nc --quiet \
   --set "Solver/Max outer iterations=1" --set "Solver/Max inner iterations=1" --set "Solver/Tolerance=1e-14"
 if [ -s nc/summary.json ]; then pass "not-converged keeps summary";
 else fail "not-converged summary missing"; fi
