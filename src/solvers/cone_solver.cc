@@ -468,23 +468,26 @@ namespace granflow::solvers
         s = F_s;
     }
 
-    /// Why the fixed point stagnates (FixedPointTunables::stagnation_min_iterations), or "" while
-    /// it does not: the least residual of the later half of the history is above
-    /// stagnation_ratio times that of the earlier half.
-    std::string
-    stagnation(const std::vector<double> &history, const FixedPointTunables &tune)
+    /// Whether the fixed point stagnates (FixedPointTunables::stagnation_min_iterations): the
+    /// least residual of the later half of its history is above stagnation_ratio times that of
+    /// the earlier half. If so, `stats` is marked stalled, with the reason in words.
+    bool
+    stagnated(ConeSolverStats &stats, const FixedPointTunables &tune)
     {
+      const std::vector<double> &history = stats.residual_history;
       if (tune.stagnation_min_iterations == 0 ||
           history.size() < std::max(tune.stagnation_min_iterations, 2u))
-        return "";
+        return false;
       const HistoryHalves h = least_of_halves(history);
       if (!(h.later_least > tune.stagnation_ratio * h.earlier_least))
-        return "";
+        return false;
       std::ostringstream s;
       s << std::setprecision(3) << "the least residual of its last " << h.later << " iterates, "
         << h.later_least << ", is above " << tune.stagnation_ratio << " times that of the "
         << h.earlier << " before them, " << h.earlier_least;
-      return s.str();
+      stats.stalled      = true;
+      stats.stall_reason = s.str();
+      return true;
     }
 
     template <std::size_t n>
@@ -547,12 +550,8 @@ namespace granflow::solvers
                          << std::defaultfloat;
           if (monitor.finished())
             break;
-          if (const std::string reason = stagnation(stats.residual_history, tune); !reason.empty())
-            {
-              stats.stalled      = true;
-              stats.stall_reason = reason;
-              break;
-            }
+          if (stagnated(stats, tune))
+            break;
           // No progress: the extrapolation (built on inexact evaluations of F) is dropped first;
           // if the plain step stalls too, the inner solves are the suspects: one that hit its
           // iteration cap gets a higher cap, one that reached its tolerance a tighter tolerance
@@ -657,14 +656,8 @@ namespace granflow::solvers
           // would, at the last one's duration, end past it.
           if (monitor.finished(true))
             break;
-          // The same stagnation rule as the first-order steps' (solve_blocks).
-          if (const std::string reason = stagnation(stats.residual_history, options.fixed_point);
-              !reason.empty())
-            {
-              stats.stalled      = true;
-              stats.stall_reason = reason;
-              break;
-            }
+          if (stagnated(stats, options.fixed_point)) // as the first-order steps (solve_blocks)
+            break;
           next_s(data, K, step.gamma, options, stats.outer_iterations, anderson, s, F_s);
           inner.tolerance = std::max(options.inner_tolerance_factor * stats.residual,
                                      options.fixed_point.inner_tolerance_floor * options.tolerance);
