@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include <sys/stat.h>
+#include <unistd.h>
 
 namespace granflow
 {
@@ -155,6 +156,14 @@ namespace granflow
     };
     std::error_code status_ec;
     const bool      existing = fs::is_directory(final_path, status_ec);
+    // A run commits by moving its files into the target: an existing target (or its profiles/)
+    // that this user cannot write would fail only after the whole solve.
+    for (const fs::path &directory : {fs::path(final_path), fs::path(final_path) / "profiles"})
+      if (existing && fs::is_directory(directory, status_ec))
+        if (const int error = ::access(directory.c_str(), W_OK | X_OK) == 0 ? 0 : errno)
+          throw InputError("--output " + path + ": cannot write into the existing directory " +
+                           directory.string() + " (" + std::strerror(error) +
+                           "): expected a directory you can write, or a new path");
     const bool      mounted =
         existing && device(final_path) != device(fs::absolute(final_path).parent_path());
     if ((mounted || !make(root)) && existing)
@@ -218,7 +227,10 @@ namespace granflow
         if (entry.is_directory())
           fs::create_directories(target);
         else
-          move(entry.path(), target);
+          {
+            moving = true;
+            move(entry.path(), target);
+          }
       }
     for (const auto &file : stale)
       fs::remove(fs::path(final_path) / file);

@@ -24,8 +24,9 @@ namespace granflow
   class OutputDirectory
   {
   public:
-    /// Creates the staging directory (and profiles/); throws InputError if it cannot, or if `path`
-    /// exists and is not a directory (checked before any work, so no run is lost to it).
+    /// Creates the staging directory (and profiles/); throws InputError if it cannot, if `path`
+    /// exists and is not a directory, or if it is an existing directory (or has a profiles/) that
+    /// this user cannot write (checked before any work, so no run is lost to it).
     explicit OutputDirectory(const std::string &path);
     /// Removes the staging directory unless committed or kept.
     ~OutputDirectory();
@@ -37,6 +38,14 @@ namespace granflow
     /// removes the files of an earlier run there that this run did not write; other files stay.
     void
     commit();
+
+    /// Whether a commit() that failed had begun moving files into the target (before that, the
+    /// target is as it was: commit() first writes its manifest there).
+    bool
+    partly_committed() const
+    {
+      return moving;
+    }
 
     /// For a run that produced no results: leaves the target directory as it was and keeps the
     /// staging directory (path(), with this run's log) instead of removing it; the next run into
@@ -106,5 +115,6 @@ namespace granflow
     std::string root; // staging directory while running, target after commit()
     bool        committed = false;
     bool        kept      = false;
+    bool        moving    = false; // commit() has begun to move files into the target
   };
 } // namespace granflow

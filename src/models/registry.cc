@@ -65,8 +65,10 @@ namespace granflow
               unmoved = unmoved || f->is_regular_file();
             throw std::runtime_error(
                 std::string(e.what()) + " (while moving the results into " + dir +
-                ", which may now mix this run's files with an earlier run's, until the next run "
-                "into it removes them" +
+                (out.partly_committed()
+                     ? ", which may now mix this run's files with an earlier run's, until the "
+                       "next run into it removes them"
+                     : ": nothing was moved, " + dir + " is as it was") +
                 (unmoved ? "; what was not moved is in " + out.path() : std::string()) + ")");
           }
       };

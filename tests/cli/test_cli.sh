@@ -261,6 +261,28 @@ check case-file-name-too-long 2 "$long_name.prm: cannot open the case file (no s
   "$GRANFLOW" run "$long_name.prm" --output keep --quiet
 check output-name-too-long 2 "--output $long_name: cannot create the output directory" \
   "$GRANFLOW" run "$case_file" --output "$long_name" --quiet
+# An existing output directory (or its profiles/) that this user cannot write is refused before
+# the solve, not found out when the results move in. Root writes anywhere, so as root the runs
+# are made as nobody (setpriv, of util-linux), from copies in a directory nobody may enter.
+shared=$(mktemp -d)
+chmod 755 "$shared"
+cp "$GRANFLOW" "$quick_case" "$shared/"
+mkdir -p "$shared/out/prev" "$shared/out/prev_profiles/profiles"
+echo "an earlier run's" >"$shared/out/prev/notes.txt"
+chmod 777 "$shared/out" "$shared/out/prev_profiles"
+chmod 555 "$shared/out/prev" "$shared/out/prev_profiles/profiles"
+as_user=()
+[ "$(id -u)" -eq 0 ] && as_user=(setpriv --reuid=65534 --regid=65534 --clear-groups)
+for target in prev prev_profiles; do
+  dir=$shared/out/$target
+  [ $target = prev ] || dir=$dir/profiles
+  check "output-unwritable-$target" 2 \
+    "cannot write into the existing directory $dir (Permission denied): expected a directory you can write" \
+    "${as_user[@]}" "$shared/granflow" run "$shared/bingham_coarse.prm" --output "$shared/out/$target" --quiet
+done
+[ "$(ls -A "$shared/out/prev")" = notes.txt ] && [ "$(ls -A "$shared/out")" = "$(printf 'prev\nprev_profiles')" ] &&
+  pass output-unwritable-left-as-it-was || fail output-unwritable-left-as-it-was "$(ls -RA "$shared/out")"
+chmod -R u+w "$shared" && rm -rf "$shared"
 printf '# nothing\n' >no_model.prm
 check model-missing 2 "entry 'Model': missing: the case file must name its model, e.g. 'set Model = dp'" \
   "$GRANFLOW" run no_model.prm --output keep --quiet
