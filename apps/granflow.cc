@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -126,6 +127,10 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
           }
         else if (a == "--output")
           {
+            if (!request.output_directory.empty())
+              throw granflow::InputError("--output " + args[i + 1] + ": --output is given twice " +
+                                         "(also " + request.output_directory +
+                                         "): expected one output directory per run");
             request.output_directory = args[++i];
             if (request.output_directory.empty())
               throw granflow::InputError("--output: empty directory name: expected a path");
@@ -168,10 +173,19 @@ Exit status: 0 success, 2 bad input, 3 a solver did not converge (results so far
     if (std::filesystem::exists(std::filesystem::path(dir) / "solution.pvd"))
       std::cout << "  " << dir << "/solution.pvd       open with: paraview " << dir
                 << "/solution.pvd\n";
-    std::cout << "  " << dir << "/summary.json       key results\n"
-              << "  " << dir << "/profiles/*.csv     plot with: scripts/plot " << dir
-              << "/profiles/velocity.csv\n"
-              << "  " << dir << "/log.txt            iteration tables\n";
+    std::cout << "  " << dir << "/summary.json       key results\n";
+    // only the profiles the run wrote (none where the profile line misses the material)
+    std::set<std::string> profiles;
+    std::error_code       ec;
+    for (std::filesystem::directory_iterator f(std::filesystem::path(dir) / "profiles", ec), end;
+         !ec && f != end; f.increment(ec))
+      if (f->path().extension() == ".csv")
+        profiles.insert(f->path().filename().string());
+    if (!profiles.empty())
+      std::cout << "  " << dir << "/profiles/*.csv     plot with: scripts/plot " << dir
+                << "/profiles/"
+                << (profiles.count("velocity.csv") ? "velocity.csv" : *profiles.begin()) << '\n';
+    std::cout << "  " << dir << "/log.txt            iteration tables\n";
     return 0;
   }
 } // namespace
@@ -191,7 +205,7 @@ main(int argc, char **argv)
       print_usage(std::cout);
       return 0;
     }
-  if (args[0] == "--version")
+  if (args[0] == "--version" && args.size() == 1)
     {
       std::cout << "granflow " << GRANFLOW_VERSION << '\n';
       return 0;
@@ -205,6 +219,9 @@ main(int argc, char **argv)
         }
       if (args[0] == "run")
         return run({args.begin() + 1, args.end()});
+      if (args[0] == "--version")
+        throw granflow::InputError("--version: unexpected argument '" + args[1] +
+                                   "': it takes none");
       if (args[0] == "list-cases")
         {
           if (args.size() != 1)
@@ -227,12 +244,12 @@ main(int argc, char **argv)
     }
   catch (const granflow::Interrupted &e)
     {
-      std::cerr << "granflow: interrupted: " << e.what() << '\n';
+      std::cerr << granflow::ending_line(e) << '\n';
       return e.exit_status();
     }
   catch (const granflow::ConvergenceError &e)
     {
-      std::cerr << "granflow: not converged: " << e.what() << '\n';
+      std::cerr << granflow::ending_line(e) << '\n';
       return granflow::exit_status::not_converged;
     }
   catch (const std::exception &e)

@@ -62,6 +62,24 @@ namespace granflow
     int signal;
   };
 
+  /// A solver that failed before the run had anything to write (the ngf loading increment): exit
+  /// status 3 as for ConvergenceError, but the output directory is left as it was (an earlier
+  /// run's results are not replaced by an unloaded body).
+  class NoResults : public ConvergenceError
+  {
+  public:
+    using ConvergenceError::ConvergenceError;
+  };
+
+  /// The line a run that kept its results ends with, on the console (stderr) and as the last line
+  /// of its log.txt: "granflow: not converged: ..." or "granflow: interrupted: ...".
+  inline std::string
+  ending_line(const ConvergenceError &e)
+  {
+    return std::string("granflow: ") +
+           (dynamic_cast<const Interrupted *>(&e) ? "interrupted: " : "not converged: ") + e.what();
+  }
+
   /// Exit status of the command line for each outcome.
   namespace exit_status
   {

@@ -10,6 +10,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include <fcntl.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -60,6 +62,37 @@ namespace granflow
     constexpr const char *manifest_name = ".granflow-files";
     /// The staging directory inside the target, where the target's parent cannot be written.
     constexpr const char *inner_staging_name = ".granflow-staging";
+    // the lock of a target whose parent cannot be written (beside it otherwise: .NAME.lock)
+    constexpr const char *inner_lock_name = ".granflow-lock";
+
+    /// An exclusive lock on `file` (created if missing), or -1 with errno: EWOULDBLOCK where
+    /// another process holds it. A file that was unlinked and made anew while we waited for its
+    /// lock (the holder removes it when it ends) is opened again, so two runs never hold two
+    /// files of one name.
+    int
+    lock_file(const fs::path &file)
+    {
+      for (int attempt = 0; attempt < 100; ++attempt)
+        {
+          const int fd = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+          if (fd < 0)
+            return -1;
+          if (::flock(fd, LOCK_EX | LOCK_NB) != 0)
+            {
+              const int error = errno;
+              ::close(fd);
+              errno = error;
+              return -1;
+            }
+          struct stat held, named;
+          if (::fstat(fd, &held) == 0 && ::stat(file.c_str(), &named) == 0 &&
+              held.st_ino == named.st_ino && held.st_dev == named.st_dev)
+            return fd;
+          ::close(fd);
+        }
+      errno = EAGAIN;
+      return -1;
+    }
 
     fs::path
     normalised(const std::string &path)
@@ -156,6 +189,25 @@ namespace granflow
     };
     std::error_code status_ec;
     const bool      existing = fs::is_directory(final_path, status_ec);
+    // One run at a time into a target: a second one removed the first's staging directory, and
+    // their files mixed (two sweeps into the default results/NAME). The lock lives while this
+    // object does, beside the target or, where its parent cannot be written, inside it.
+    {
+      const fs::path parent = normalised(path).parent_path();
+      fs::create_directories(parent, ec);
+      lock.path = (parent / ("." + normalised(path).filename().string() + ".lock")).string();
+      lock.fd   = lock_file(lock.path);
+      if (lock.fd < 0 && errno != EWOULDBLOCK && existing)
+        {
+          lock.path = (fs::path(final_path) / inner_lock_name).string();
+          lock.fd   = lock_file(lock.path);
+        }
+      if (lock.fd < 0 && errno == EWOULDBLOCK)
+        throw InputError("--output " + path +
+                         ": another granflow run is writing into it (it holds " + lock.path +
+                         "): expected another output directory, or that run to end first");
+      ec.clear(); // a directory no lock can be made in fails below, as the staging directory
+    }
     // A run commits by moving its files into the target: an existing target (or its profiles/)
     // that this user cannot write would fail only after the whole solve.
     for (const fs::path &directory : {fs::path(final_path), fs::path(final_path) / "profiles"})
@@ -182,6 +234,15 @@ namespace granflow
     std::error_code ec;
     if (!committed && !kept)
       fs::remove_all(root, ec);
+  }
+
+  OutputDirectory::Lock::~Lock()
+  {
+    if (fd >= 0)
+      {
+        ::unlink(path.c_str()); // while held: see lock_file()
+        ::close(fd);
+      }
   }
 
   void

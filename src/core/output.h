@@ -116,5 +116,17 @@ namespace granflow
     bool        committed = false;
     bool        kept      = false;
     bool        moving    = false; // commit() has begun to move files into the target
+    /// Held while this object lives, one run per target (released also when the constructor
+    /// throws after taking it).
+    struct Lock
+    {
+      std::string path;
+      int         fd     = -1;
+      Lock()             = default;
+      Lock(const Lock &) = delete;
+      Lock &
+      operator=(const Lock &) = delete;
+      ~Lock();
+    } lock;
   };
 } // namespace granflow

@@ -528,6 +528,11 @@ namespace granflow
     const auto eq = argument.find('=');
     if (eq == std::string::npos || eq == 0)
       throw InputError("--set " + argument + ": expected Section/key=value");
+    // A case file cannot hold it either: the parameters.prm a run writes would rerun another case.
+    if (argument.find('#', eq) != std::string::npos)
+      throw InputError("--set " + argument +
+                       ": a value cannot contain '#', which begins a comment in a case file (the "
+                       "run's parameters.prm would not rerun it): expected a value without '#'");
     return {trim(argument.substr(0, eq)), trim(argument.substr(eq + 1))};
   }
 

@@ -81,14 +81,28 @@ namespace granflow
         {
           throw; // nothing is committed: the target directory stays as it was
         }
-      catch (const ConvergenceError &) // Interrupted included
+      catch (const NoResults &e)
         {
+          out.keep_staging(); // the target stays as it was
+          const NoResults said(std::string(e.what()) +
+                               "; nothing was computed: " + out.left_as_it_was());
+          log.table() << ending_line(said) << '\n';
+          log.flush_table();
+          throw said;
+        }
+      catch (const ConvergenceError &e) // Interrupted included
+        {
+          // the console's last line, with the reason and the remedy, is the log's too
+          log.table() << ending_line(e) << '\n';
+          log.flush_table();
           commit(); // what was written so far is kept
           throw;
         }
       catch (const std::exception &e)
         {
           // An internal error: this run's log is kept beside the target, which stays as it was.
+          log.table() << "granflow: internal error: " << e.what() << '\n';
+          log.flush_table();
           out.keep_staging();
           throw std::runtime_error(std::string(e.what()) + " (" + out.left_as_it_was() + ")");
         }

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <limits>
 #include <ostream>
@@ -35,6 +36,9 @@ namespace granflow::solvers
     /// Fixed-column table: label, iteration, the normalised residuals; the relative corrections;
     /// line-search steps.
     std::ostream *log = nullptr;
+    /// Asked before each correction (a Ctrl-C, core/interrupt.h): true ends the solve, not
+    /// converged, with NewtonStats::interrupted.
+    std::function<bool()> stop_requested;
   };
 
   /// Per field: the residual's norm and the scale that normalises it (0: not normalised).
@@ -83,6 +87,7 @@ namespace granflow::solvers
   {
     bool                       converged  = false;
     bool                       singular   = false; // a Jacobian could not be factorised
+    bool                       interrupted = false; // ended by NewtonOptions::stop_requested
     /// The index of the last iterate: the corrections taken (a negligible last one, which
     /// ends the solve, is applied but not counted).
     unsigned int               iterations = 0;
@@ -167,6 +172,11 @@ namespace granflow::solvers
             }
           if (stats.iterations == options.max_iterations)
             return stats;
+          if (options.stop_requested && options.stop_requested())
+            {
+              stats.interrupted = true;
+              return stats;
+            }
           if (!problem.correction(dx, fresh))
             {
               factorization_valid = false;

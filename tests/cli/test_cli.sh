@@ -566,6 +566,9 @@ check not-converged 3 "raise Solver/Max outer iterations or Max inner iterations
   --set "Solver/Max outer iterations=1" --set "Solver/Max inner iterations=1" --set "Solver/Tolerance=1e-14"
 if [ -s nc/summary.json ]; then pass "not-converged keeps summary";
 else fail "not-converged summary missing"; fi
+# log.txt has everything: it ends with the console's reason and remedy.
+if [ "$(tail -n 1 nc/log.txt)" = "$(cat err.txt)" ]; then pass "not-converged reason in log.txt";
+else fail "not-converged reason in log.txt" "log ends: $(tail -n 1 nc/log.txt)"; fi
 # The Bagnold viscosity loop that runs out of iterations: exit 3, and summary.json says the run did
 # not converge (it said converged: true, with the loop's last relative change, then of u, at 0.88).
 check viscosity-not-converged 3 "raise Solver/Viscosity iterations" "$GRANFLOW" run \
@@ -627,7 +630,8 @@ interrupted() { # name, signal, expected status, output directory, command...
   wait $pid
   local got=$?
   if [ "$got" -eq "$status" ] && grep -q '"interrupted": true' "$dir/summary.json" 2>/dev/null &&
-    grep -qF "interrupted: " err.txt && [ ! -e ".$dir.staging" ]; then
+    grep -qF "interrupted: " err.txt && [ ! -e ".$dir.staging" ] &&
+    [ "$(tail -n 1 "$dir/log.txt")" = "$(tail -n 1 err.txt)" ]; then
     pass "$name"
   else
     fail "$name" "exit $got (expected $status), summary:"; grep -s interrupted "$dir/summary.json"
@@ -641,6 +645,22 @@ interrupted ngf-sigterm TERM 143 int_ngf "$GRANFLOW" run "$SOURCE_DIR/cases/hena
 # A run stopped early is not steady, and says so beside its W/d.
 if grep -q "not steady: the run stopped at" int_ngf/summary.json; then pass "ngf interrupted run warns not steady";
 else fail "ngf interrupted run warns not steady"; fi
+
+# Two runs into one directory: the second is refused while the first runs (it removed the first's
+# staging directory, and the two runs' files mixed); the lock goes with the first run.
+"$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/silo_creeping.prm" --output busy --quiet \
+  --set "Solver/Method=fixed point" --set "Solver/Tolerance=1e-12" --set "Solver/Max seconds=120" \
+  --set "Output/Write vtu=false" >/dev/null 2>&1 &
+pid=$! waited=0
+until [ -s ".busy.staging/log.txt" ] || [ $waited -ge 600 ]; do sleep 0.1; waited=$((waited + 1)); done
+check output-busy 2 "another granflow run is writing into it (it holds .busy.lock): expected another output directory" \
+  "$GRANFLOW" run "$quick_case" --output busy --quiet
+kill -INT $pid
+wait $pid
+got=$?
+if [ "$got" -eq 130 ] && grep -q '"interrupted": true' busy/summary.json && [ ! -e .busy.lock ] &&
+  [ ! -e .busy.staging ]; then pass "output-busy: the first run ends as it would alone"
+else fail "output-busy: the first run ends as it would alone" "exit $got"; ls -a; fi
 
 # A reader that closes the pipe early (`| head -1`) does not kill the run (SIGPIPE, exit 141, DIR
 # left staged): the run goes on and writes DIR, exit 0. The case prints progress for seconds.
@@ -750,6 +770,18 @@ check plot-text-column 2 "has no numbers in column 'note'" "$SOURCE_DIR/scripts/
   "$SOURCE_DIR/docs/results/henann2016/linear_shear_rate.csv" --loglog v_wall_over_sqrt_Gd note -o plot.png
 check plot-not-csv 2 "is neither a profile or data CSV nor a VTU" "$SOURCE_DIR/scripts/plot" \
   ngf_out/summary.json
+# An -o into a directory that does not exist (a traceback, exit 1), and a column with nothing to
+# show on log axes (an empty plot, exit 0); --loglog's own PNG beside its CSV does not replace the
+# profile's.
+check plot-output-dir-missing 2 "cannot write into $work/no_such_dir: expected a writable directory" \
+  "$SOURCE_DIR/scripts/plot" ngf_out/profiles/velocity.csv -o "$work/no_such_dir/x.png"
+printf 'x,y\n1,-1\n2,-2\n' >negative.csv
+check plot-loglog-nothing-positive 2 "no row has both x and y positive: nothing to plot on log axes" \
+  "$SOURCE_DIR/scripts/plot" negative.csv --loglog x y
+printf 'x,y\n1,1\n2,4\n' >powers.csv
+if "$SOURCE_DIR/scripts/plot" powers.csv --loglog x y >/dev/null 2>&1 && [ -s powers-x-y.png ] &&
+  [ ! -e powers.png ]; then pass "plot --loglog names its PNG after the columns"
+else fail "plot --loglog names its PNG after the columns"; ls; fi
 check plot-unknown-field 2 "has no point field 'presure'; it has:" "$SOURCE_DIR/scripts/plot" \
   ngf_out/solution-0000.vtu presure -o plot.png
 # W / d is reported with a warning where the band is narrower than an element (the local model)
@@ -779,13 +811,13 @@ if grep -qF "Solver/Max increment = 0.0125 or less keeps it under 0.1 %" ngf_inc
 else fail "ngf increment-bias warning advises each geometry's increment"; grep -h "Max increment" ngf_incr*/summary.json; fi
 check ngf-elastic-range 0 "times the smaller elastic modulus: elastic strains that large" "$GRANFLOW" run "$ngf_case" \
   --output ngf_soft --set "Material/Shear modulus=1e4" --set "Output/Write vtu=false"
-# An outward fluidity flux cannot be met at rest (g >= 0): the loading step says so, and the
-# summary has no mu_wall (null, not 0).
+# An outward fluidity flux cannot be met at rest (g >= 0): the loading step says so, and with no
+# increment converged nothing is written (the summary had mu_wall null).
 check ngf-outward-flux-at-rest 3 "'wall: -100' (an outward flux of fluidity) has no solution" \
   "$GRANFLOW" run "$ngf_case" --output ngf_flux --quiet --set "Output/Reference=none" \
   --set "Fluidity boundary conditions/Neumann=wall: -100"
-if grep -q '"mu_wall": null' ngf_flux/summary.json; then pass "ngf mu_wall null before any increment";
-else fail "ngf mu_wall null before any increment"; fi
+if [ ! -e ngf_flux ]; then pass "ngf nothing written before any increment";
+else fail "ngf nothing written before any increment"; ls -a ngf_flux; fi
 # A fluidity source at the wall lets the material flow below mu_s: no "below mu_s" warning there,
 # while a g = 0 wall on a coarse mesh keeps it.
 check ngf-fluidity-source 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_source --quiet \
@@ -828,16 +860,14 @@ else fail "ngf not-steady verdict missing from summary.json"; fi
 check ngf-window-at-least-0.1d 0 "warning: not steady over the last 0.1" "$GRANFLOW" run "$ngf_case" \
   --output ngf_window --set "Output/Reference=none" --set "Output/Write vtu=false" \
   --set "Loading/Wall pressure=300" --set "Loading/Wall displacement=0.3"
-check ngf-not-converged 3 "written to" "$GRANFLOW" run "$ngf_case" --output ngf_nc --quiet \
-  --set "Solver/Max Newton iterations=1" --set "Solver/Tolerance=1e-14"
+# It fails in the loading step, so no increment converged: there is nothing to write, and the
+# new directory is not made (it held an unloaded body, mu_wall null).
+check ngf-not-converged 3 "nothing was computed: ngf_nc was left as it was" "$GRANFLOW" run \
+  "$ngf_case" --output ngf_nc --quiet --set "Solver/Max Newton iterations=1" --set "Solver/Tolerance=1e-14"
 if grep -qF "best iterate of the last attempt: iteration" err.txt; then pass "ngf not-converged names its residuals";
 else fail "ngf not-converged message lacks the least residuals"; fi
-if [ -s ngf_nc/summary.json ]; then pass "ngf not-converged keeps summary";
-else fail "ngf not-converged summary missing"; fi
-# (it fails in the loading step: no increment converged)
-if grep -q "Newton failed (see the log): no increment converged, not even the loading step" \
-  ngf_nc/summary.json; then pass "ngf not-converged summary warns"
-else fail "ngf not-converged summary warns"; fi
+if [ ! -e ngf_nc ]; then pass "ngf loading failure writes no results";
+else fail "ngf loading failure writes no results"; ls -a ngf_nc; fi
 # Elements much larger than the cooperativity length: Newton fails as the flow starts, and the
 # message names the cause (before, only the increment it had cut down to).
 check ngf-element-above-cooperativity-length 3 "times the smallest cooperativity length" \
@@ -903,6 +933,21 @@ if [ "$got" -eq 130 ] && [ -s kept/summary.json ] && [ -s kept/solution-0000.vtu
   grep -q "kept was left as it was" err.txt && [ -s .kept.staging/log.txt ]; then
   pass "interrupted before the solve keeps earlier results"
 else fail "interrupted before the solve keeps earlier results" "exit $got"; cat err.txt; ls -a kept; fi
+
+# An ngf run whose loading increment fails has no state to write: exit 3, and the earlier run's
+# results stay (they were replaced by an unloaded body, mu_wall null); the reason ends its log.
+ngf_column="$SOURCE_DIR/cases/henann2016/linear_shear_gravity.prm"
+check ngf-keep-before-rerun 0 "Results in" "$GRANFLOW" run "$ngf_column" --quiet --output ngf_kept \
+  --set "Output/Write vtu=false"
+cp ngf_kept/summary.json ngf_kept_summary.json
+check ngf-loading-fails 3 "has no solution with g >= 0 while the body is at rest" \
+  "$GRANFLOW" run "$ngf_column" --quiet --output ngf_kept --set "Output/Reference=none" \
+  --set "Fluidity boundary conditions/Neumann=wall: -1000"
+if grep -qF "nothing was computed: ngf_kept was left as it was, and the log of this run is" err.txt &&
+  cmp -s ngf_kept/summary.json ngf_kept_summary.json &&
+  [ "$(tail -n 1 .ngf_kept.staging/log.txt)" = "$(tail -n 1 err.txt)" ]; then
+  pass "ngf loading failure keeps earlier results"
+else fail "ngf loading failure keeps earlier results"; cat err.txt; ls -a ngf_kept; fi
 
 # Gmsh's meshing does not poll for a stop request: before anything is computed a signal ends the
 # run at once (a silo with an outlet extension of 1e5 meshed for minutes after SIGTERM), and the
@@ -1041,6 +1086,30 @@ bad set-twice "Rheology/Bi is set twice (also = 0.2): expected each entry at mos
 bad set-twice-spaced "is set twice (also = 0.2): expected each entry at most once" \
   --set "Rheology/Bi=0.2" --set "Rheology / Bi=0.3"
 check list-cases-extra 2 "list-cases: unexpected argument 'foo'" "$GRANFLOW" list-cases foo
+# A value a case file cannot hold: parameters.prm reran "run #3" as the case "run".
+bad set-value-with-hash "a value cannot contain '#', which begins a comment in a case file" \
+  --set "Name=run #3"
+check version-extra 2 "--version: unexpected argument 'foo': it takes none" "$GRANFLOW" --version foo
+# Two output directories: refused (the last one won), as an entry set twice is.
+bad output-twice "--output is given twice (also keep): expected one output directory per run" \
+  --output other
+# An analytic reference holds only for its own problem: the Bagnold layer without its ends'
+# tractions, or with them on the bed, gave a max_rel_error of 2.3 with exit 0 and no warning.
+for tractions in "" "upstream"; do
+  check "bagnold-reference-tractions-'$tractions'" 2 \
+    "'bagnold' solves the layer on a no-slip bed with a free surface and the analytic stress on its ends (6.1.3)" \
+    "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet \
+    --set "Boundary conditions/Analytic traction=$tractions"
+done
+check bagnold-reference-traction-on-bed 2 \
+  "on 'bed', a No-slip boundary: expected a boundary with no velocity condition" \
+  "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet \
+  --set "Boundary conditions/Analytic traction=upstream, downstream, bed"
+for condition in "Zero y-velocity=surface" "External pressure=surface: 0.1"; do
+  check "bagnold-reference-'$condition'" 2 "and no other velocity condition or External pressure" \
+    "$GRANFLOW" run "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet \
+    --set "Boundary conditions/$condition"
+done
 # A dump named like a file the run writes would be replaced by it; a continuum annulus of less
 # than a grain's radius is refused (R_i = 1e-9 d gave mu_wall = 4.8e15 with exit 0).
 bad dump-named-like-run-file "the run writes a file of that name" \

@@ -313,6 +313,29 @@ TEST(Newton, FailuresEndTheSolveUnconverged)
   EXPECT_TRUE(std::isnan(stats.history.back().correction[0]));
 }
 
+TEST(Newton, AStopRequestEndsTheSolveBeforeTheNextCorrection)
+{
+  // A Ctrl-C (NewtonOptions::stop_requested, asked before each correction) ends the solve
+  // unconverged and interrupted, after the corrections already taken; a solve that converges
+  // first is not interrupted.
+  NewtonOptions options     = pure_newton(1e-13);
+  unsigned int  asked       = 0;
+  options.stop_requested    = [&asked] { return ++asked > 2; }; // after two corrections
+  TwoFields         problem = coupled(vec(1.3, 1.6));
+  const NewtonStats stats   = NewtonSolver<Vec2>(options).solve(problem, 0);
+  EXPECT_FALSE(stats.converged);
+  EXPECT_TRUE(stats.interrupted);
+  EXPECT_EQ(stats.iterations, 2u);
+  EXPECT_EQ(problem.factorizations, 2u);
+  EXPECT_EQ(asked, 3u);
+
+  TwoFields at_root       = coupled(vec(1., 2.));
+  options.stop_requested  = [] { return true; };
+  const NewtonStats there = NewtonSolver<Vec2>(options).solve(at_root, 0);
+  EXPECT_TRUE(there.converged);
+  EXPECT_FALSE(there.interrupted);
+}
+
 TEST(Newton, IteratesAreMadeAdmissible)
 {
   // r = (x0 - 1, x1 + 1) has its root at x1 = -1, outside x1 >= 0: every step is projected back,

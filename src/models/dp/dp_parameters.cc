@@ -407,6 +407,29 @@ namespace granflow::dp
                            "Boundary conditions/External pressure equal at inlet and outlet (a "
                            "pressure difference drives another flow)");
       }
+    // The Bagnold reference (6.1.3) is the layer on a no-slip bed with a free surface, its ends
+    // loaded by the analytic stress; without those tractions the layer is another flow.
+    if (output.reference == "bagnold" && geometry.shape == "square patch")
+      {
+        const auto &bc  = boundaries;
+        const auto  bed = split_list(bc.no_slip), ends = split_list(bc.analytic_traction);
+        bool        other_condition = false;
+        for (const auto &[list, entry] : bc.velocity_conditions())
+          other_condition = other_condition || (list != &bc.no_slip && !split_list(*list).empty());
+        bool pressed = false;
+        for (const auto &[name, value] :
+             parse_named_values(bc.external_pressure, f, "Boundary conditions/External pressure"))
+          pressed = pressed || value != 0.;
+        if (bed != std::vector<std::string>{"bed"} ||
+            std::set<std::string>(ends.begin(), ends.end()) !=
+                std::set<std::string>{"upstream", "downstream"} ||
+            other_condition || pressed)
+          throw InputError(f, "Output/Reference",
+                           "'bagnold' solves the layer on a no-slip bed with a free surface and "
+                           "the analytic stress on its ends (6.1.3): needs Boundary "
+                           "conditions/No-slip = bed, Analytic traction = upstream, downstream, "
+                           "and no other velocity condition or External pressure");
+      }
   }
 
   Parameters

@@ -42,7 +42,8 @@ namespace granflow::dp::detail
     else
       {
         geometry::read_mesh_file(mesh, g.mesh_file, f);
-        // The output directory keeps the mesh the run used, as for the generated shapes.
+        // The output directory keeps the mesh the run read, as for the generated shapes (before
+        // Global refinements, which parameters.prm repeats).
         std::error_code ec;
         std::filesystem::copy_file(g.mesh_file, msh,
                                    std::filesystem::copy_options::overwrite_existing, ec);
@@ -266,9 +267,18 @@ namespace granflow::dp::detail
         external_stresses.emplace_back(id, sigma);
       }
     warn_of_tension();
+    const std::string traction_entry = "Boundary conditions/Analytic traction";
     for (const std::string &name : split_list(bc.analytic_traction))
-      analytic_tractions.push_back(
-          mesh.id(name, prm.case_file, "Boundary conditions/Analytic traction"));
+      {
+        // the reference's whole stress there, a natural condition like External stress
+        const types::boundary_id id = mesh.id(name, prm.case_file, traction_entry);
+        if (const auto condition = condition_of.find(id); condition != condition_of.end())
+          throw InputError(prm.case_file, traction_entry,
+                           "on '" + name + "', a " + condition->second +
+                               " boundary: expected a boundary with no velocity condition (the "
+                               "traction is the analytic stress there)");
+        analytic_tractions.push_back(id);
+      }
     if (!prm.output.drag_boundary.empty())
       {
         // The force is the reaction where the velocity is constrained (boundary_force()).

@@ -286,8 +286,8 @@ namespace granflow::ngf::detail
   };
 
   template <int dim>
-  bool
-  Problem<dim>::newton(const double dt, const unsigned int increment, unsigned int &iterations)
+  solvers::NewtonStats
+  Problem<dim>::newton(const double dt, const unsigned int increment)
   {
     Increment                  step(*this, dt);
     const solvers::NewtonStats stats = newton_solver.solve(step, increment);
@@ -297,8 +297,7 @@ namespace granflow::ngf::detail
         newton_log.push_back(
             {increment, k, it.residual[0], it.residual[1], it.correction[0], it.correction[1]});
       }
-    iterations = stats.iterations;
-    return stats.converged;
+    return stats;
   }
 
   // Each member defined here is instantiated here, for both element types (ngf_problem.h).
@@ -310,8 +309,7 @@ namespace granflow::ngf::detail
   template Problem<D>::ResidualNorms Problem<D>::residual_norms() const;                           \
   template Problem<D>::ResidualNorms Problem<D>::assemble(const double dt,                         \
                                                           const bool   with_jacobian);               \
-  template bool Problem<D>::newton(const double dt, const unsigned int increment,                  \
-                                   unsigned int &iterations);
+  template solvers::NewtonStats Problem<D>::newton(const double dt, const unsigned int increment);
 
   GRANFLOW_NGF_INSTANTIATE(2)
   GRANFLOW_NGF_INSTANTIATE(3)

@@ -83,6 +83,18 @@ namespace granflow::ngf::detail
     return std::max(0.1 * scale.u_end, std::min(0.1 * scale.d, scale.u_end));
   }
 
+  namespace
+  {
+    /// The failure text of a run stopped by a signal after `converged` increments (at least the
+    /// loading one: before it, the signal ends the process, core/interrupt.h).
+    std::string
+    stopped_by_signal(const unsigned int converged, const double run_over_d)
+    {
+      return std::string("stopped by ") + interrupt::signal_name() + " after increment " +
+             std::to_string(converged - 1) + " (of a run to " + std::to_string(run_over_d) + " d)";
+    }
+  } // namespace
+
   template <int dim>
   typename Problem<dim>::RunState
   Problem<dim>::march()
@@ -111,8 +123,23 @@ namespace granflow::ngf::detail
         predict(s.rate, dt);
         make_constraints(step_constraints, s.u_wall + step, false);
         step_constraints.distribute(U);
-        unsigned int iterations = 0;
-        if (!newton(dt, s.increment, iterations))
+        const solvers::NewtonStats stats      = newton(dt, s.increment);
+        const unsigned int         iterations = stats.iterations;
+        if (stats.interrupted || (stats.converged && interrupt::requested()))
+          {
+            s.interrupted = true;
+            if (!stats.converged) // the increment's state is abandoned, as a cut one would be
+              {
+                U = U_n;
+                assemble(0., false);
+              }
+          }
+        if (stats.interrupted)
+          {
+            s.failure = stopped_by_signal(s.increment, scale.u_end / d);
+            break;
+          }
+        if (!stats.converged)
           {
             du *= 0.25;
             ++s.cuts;
@@ -149,14 +176,15 @@ namespace granflow::ngf::detail
             s.h_iter.push_back(iterations);
           }
         U_n = U;
+        before_results.reset(); // the loaded body is a state to write
         s.total_iterations += iterations;
         s.max_iterations = std::max(s.max_iterations, iterations);
-        ++s.increment;
+        const unsigned int done = s.increment++; // as log.txt and newton.csv number it
         s.loading = false;
         if (iterations <= 4)
           du = std::min(du * prm.solver.growth, prm.solver.max_increment * d);
         std::ostringstream p;
-        p << "increment " << s.increment << ": wall displacement " << s.u_wall / d << " d of "
+        p << "increment " << done << ": wall displacement " << s.u_wall / d << " d of "
           << scale.u_end / d << ", mu_wall " << s.mu_wall << ", " << iterations
           << " Newton iterations";
         // The time left at the pace of the last 10 s, once the increments have reached
@@ -168,12 +196,9 @@ namespace granflow::ngf::detail
         if (const auto seconds = time_left.seconds_to(scale.u_end))
           p << ", about " << std::lround(*seconds) << " s left";
         log.progress(p.str());
-        if (interrupt::requested())
+        if (s.interrupted)
           {
-            s.interrupted = true;
-            s.failure     = std::string("stopped by ") + interrupt::signal_name() +
-                        " after increment " + std::to_string(s.increment - 1) + " (of a run to " +
-                        std::to_string(scale.u_end / d) + " d)";
+            s.failure = stopped_by_signal(s.increment, scale.u_end / d);
             break;
           }
       }
@@ -283,11 +308,9 @@ namespace granflow::ngf::detail
     if (!s.failure.empty() && !s.interrupted)
       {
         std::ostringstream w;
+        // (a failed loading step has no results: run() throws NoResults before this)
         w << std::setprecision(3) << "Newton failed (see the log): ";
-        if (s.loading)
-          w << "no increment converged, not even the loading step (gravity and wall pressure "
-               "with the wall at rest); the fields are the unloaded start";
-        else if (s.u_wall == 0.)
+        if (s.u_wall == 0.)
           w << "the results are those of the loaded body at rest, before any shear";
         else
           w << "the results are those of the last converged increment, at " << s.u_wall / d
@@ -303,8 +326,9 @@ namespace granflow::ngf::detail
                              "the profiles as steady results; beyond about 5 degrees the slice "
                              "drifts from the quad section (docs/ngf.md), which is the one for "
                              "long runs"
-                           : ": run further (Loading/Wall displacement or Wall rotation) before "
-                             "using mu_wall, W/d or the profiles as steady results"));
+                           : std::string(": run further (Loading/") +
+                                 (column ? "Wall displacement" : "Wall rotation") +
+                                 ") before using mu_wall, W/d or the profiles as steady results"));
     // The implicit, first-order time integration (Section 4) gives a steady state that depends
     // on the increment: mu_wall falls below its increment-converged value by about
     // rate x (increment / d), with the rate measured per geometry at the cases' parameters
@@ -406,13 +430,12 @@ namespace granflow::ngf::detail
   Results
   Problem<dim>::run()
   {
-    {
-      // Until the first increment, a signal ends the run at once: nothing to write yet.
-      const interrupt::BeforeResults before_results(out.left_as_it_was());
-      compute_reference();
-      make_mesh();
-      setup_system();
-    }
+    // Until the loading increment has converged (march()), a signal ends the run at once:
+    // nothing to write yet.
+    before_results.emplace(out.left_as_it_was());
+    compute_reference();
+    make_mesh();
+    setup_system();
     const double d = scale.d;
     log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
               (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
@@ -423,7 +446,10 @@ namespace granflow::ngf::detail
                 << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u"
                 << std::setw(12) << "R_g" << '\n';
 
-    const RunState s             = march();
+    const RunState s = march();
+    before_results.reset();
+    if (s.increment == 0) // the loading increment failed: no state to write
+      throw NoResults(s.failure);
     nlohmann::json summary       = describe_run(s);
     const auto [steady, why_not] = judge_steadiness(s);
     summary["steady_state"]      = steady;

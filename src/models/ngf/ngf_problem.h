@@ -12,6 +12,7 @@
 
 #include "models/ngf/ngf_model.h"
 
+#include "core/interrupt.h"
 #include "core/run_report.h"
 #include "models/ngf/ngf_element.h"
 #include "postprocess/nonlocal_1d.h"
@@ -131,9 +132,9 @@ namespace granflow::ngf::detail
     ResidualNorms
     residual_norms() const;
     class Increment;
-    /// One increment's Newton iterations (solvers::NewtonSolver); false: not converged.
-    bool
-    newton(double dt, unsigned int increment, unsigned int &iterations);
+    /// One increment's Newton iterations (solvers::NewtonSolver), logged to newton.csv.
+    solvers::NewtonStats
+    newton(double dt, unsigned int increment);
 
     /// Name of p / scale.P_wall in the VTU and stress.csv: P_wall for the column and the annulus
     /// row, the hydrostatic pressure at the floor phi rho_s G H for the annulus (Fig. 6).
@@ -320,6 +321,9 @@ namespace granflow::ngf::detail
     std::vector<unsigned int> csr_position; // of each entry of `jacobian`, in its storage order
     solvers::UmfpackSolver    factorization;
     solvers::NewtonSolver<Vector<double>>         newton_solver;
+    /// Until the loading increment converges, a signal ends the run at once and leaves the
+    /// output directory as it was: there is nothing to write (run(), march()).
+    std::optional<interrupt::BeforeResults>       before_results;
     std::vector<Point<dim>>                       dof_point; // reference position of each dof
     std::optional<postprocess::Nonlocal1dProfile> reference; // Output/Reference
   };

@@ -3,6 +3,7 @@
 #include "models/ngf/ngf_problem.h"
 
 #include "core/errors.h"
+#include "core/interrupt.h"
 #include "fem/mapping_without_cell_similarity.h"
 
 #include <deal.II/base/quadrature_lib.h>
@@ -34,6 +35,7 @@ namespace granflow::ngf::detail
       o.max_iterations      = s.max_iterations;
       o.reuse_factorization = s.reuse_factorization;
       o.log                 = &log.table();
+      o.stop_requested      = interrupt::requested; // a Ctrl-C ends an increment's iterations
       return o;
     }
   } // namespace
