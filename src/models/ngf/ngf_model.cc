@@ -143,6 +143,11 @@ namespace granflow::ngf::detail
           {
             du *= 0.25;
             ++s.cuts;
+            // the same increment number starts again in the table and in newton.csv
+            log.table() << std::setw(6) << s.increment << "  not converged: increment cut to "
+                        << (s.loading ? du / scale.v_wall : du / d)
+                        << (s.loading ? " s (loading time step)" : " d of wall displacement")
+                        << '\n';
             if (du < 1e-6 * prm.solver.first_increment * d)
               {
                 U = U_n;
