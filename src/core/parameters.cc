@@ -696,6 +696,10 @@ namespace granflow
   double
   parse_number(const std::string &text)
   {
+    // as a scalar entry reads it (Interval): stod would also take hexadecimal, "0x10" for 16
+    const std::string digits = trim(text);
+    if (digits.find_first_of("xX") != std::string::npos)
+      throw std::invalid_argument("not a decimal number: '" + text + "'");
     std::size_t used  = 0;
     double      value = 0.;
     try
@@ -729,7 +733,7 @@ namespace granflow
           {
             throw InputError(file, entry,
                              "cannot read '" + item +
-                                 "': expected 'boundary: number' (a finite number)");
+                                 "': expected 'boundary: number' (a finite number, in decimal)");
           }
         require_last_name_new(result, file, entry);
       }

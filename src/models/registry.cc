@@ -101,10 +101,11 @@ namespace granflow
       catch (const std::exception &e)
         {
           // An internal error: this run's log is kept beside the target, which stays as it was.
-          log.table() << "granflow: internal error: " << e.what() << '\n';
-          log.flush_table();
           out.keep_staging();
-          throw std::runtime_error(std::string(e.what()) + " (" + out.left_as_it_was() + ")");
+          const std::runtime_error said(std::string(e.what()) + " (" + out.left_as_it_was() + ")");
+          log.table() << "granflow: internal error: " << said.what() << '\n';
+          log.flush_table();
+          throw said;
         }
       commit();
       summary["output_directory"] = out.target();

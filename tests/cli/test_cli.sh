@@ -713,6 +713,9 @@ ngf_bad fluidity-boundary-in-both-lists "a second time" --set "Fluidity boundary
   --set "Fluidity boundary conditions/Neumann=wall: 100"
 ngf_bad fluidity-negative ">= 0" --set "Fluidity boundary conditions/Dirichlet=wall: -5" --set "Output/Reference=none"
 ngf_bad fluidity-nan "finite" --set "Fluidity boundary conditions/Dirichlet=wall: nan" --set "Output/Reference=none"
+# read as the scalar entries are: no hexadecimal (0x10 ran as g_wall = 16)
+ngf_bad fluidity-hex "cannot read 'wall: 0x10': expected 'boundary: number' (a finite number, in decimal)" \
+  --set "Fluidity boundary conditions/Dirichlet=wall: 0x10" --set "Output/Reference=none"
 ngf_bad fd-reference-of-local-model "Output/Reference" --set "Solver/Fluidity=local"
 ngf_bad fd-reference-unsolvable "the 1D reduction cannot be solved" --set "Material/b=1e300"
 ngf_bad too-many-elements "at most 1e6" --set "Geometry/Depth=1e300"
