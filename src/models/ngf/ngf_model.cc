@@ -359,7 +359,7 @@ namespace granflow::ngf::detail
 
   template <int dim>
   void
-  Problem<dim>::warn_if_below_mu_s(const double mu_wall)
+  Problem<dim>::warn_if_below_mu_s(const nlohmann::json &summary, const bool steady_flow)
   {
     // Steady flow starts where mu >= mu_s (g_loc = 0 below it, (22)), and mu is largest at the
     // driven wall in every geometry here: below mu_s there, the mesh does not resolve the flow
@@ -368,16 +368,33 @@ namespace granflow::ngf::detail
     // lets material flow below mu_s. The test therefore applies unless the boundaries feed
     // fluidity in, in net: a g_wall below the fluidity beside the wall takes fluidity out, like
     // g = 0, and a source elsewhere may not make up for it.
-    const auto positive        = [](const auto &condition) { return condition.second > 0.; };
+    // The flow rule sees tau / p, not tau / P_wall: where the wall's pressure is not the applied
+    // one (the annulus row on large increments: 0.97 P_wall at 0.5 d, mu_wall 0.377 with
+    // tau / p = 0.389 > mu_s), the local ratio mu_wall_local (postprocess()) is the one to test.
+    if (!summary.contains("mu_wall") || !summary.at("mu_wall").is_number())
+      return;
+    const bool   local    = summary.contains("mu_wall_local");
+    const double mu_wall  = summary.at(local ? "mu_wall_local" : "mu_wall").template get<double>();
+    const auto   positive = [](const auto &condition) { return condition.second > 0.; };
     const bool fluidity_source = std::any_of(g_dirichlet.begin(), g_dirichlet.end(), positive) ||
                                  std::any_of(g_neumann.begin(), g_neumann.end(), positive);
     const bool fed_by_boundaries = fluidity_source && boundary_fluidity_supply > 0.;
     if (fed_by_boundaries || mu_wall >= prm.material.nonlocal.mu_s)
       return;
     std::ostringstream w;
-    w << "mu_wall = " << mu_wall << " is below mu_s = " << prm.material.nonlocal.mu_s
-      << " at the driven wall: a steady flow needs mu >= mu_s where it starts, so either the "
-         "body has not yielded, or the mesh does not resolve the flow at the wall";
+    w << (local ? "the stress ratio at the driven wall, tau / p = mu_wall_local = " : "mu_wall = ")
+      << mu_wall << ", is below mu_s = " << prm.material.nonlocal.mu_s
+      << ": a steady flow needs mu >= mu_s where it starts, so ";
+    if (!steady_flow)
+      {
+        // (the "not steady" warning says how to run further)
+        w << "the body has likely not yielded at the wall yet (the run is not steady); if it "
+             "stays below mu_s once steady, the mesh does not resolve the flow at the wall ("
+          << refine_advice() << ")";
+        report.warn(w.str());
+        return;
+      }
+    w << "either the body has not yielded, or the mesh does not resolve the flow at the wall";
     // (with homogeneous Neumann conditions only, the supply is zero to the Newton
     // tolerance, and its sign means nothing)
     const bool conditions = !g_dirichlet.empty() || std::any_of(g_neumann.begin(), g_neumann.end(),
@@ -461,11 +478,11 @@ namespace granflow::ngf::detail
     const bool steady_flow       = steady.at("steady").template get<bool>();
     warn_about_run(s, steady_flow, why_not);
     report_distortion(summary);
-    if (s.failure.empty())
-      warn_if_below_mu_s(s.mu_wall);
     // The band's own warnings only for a run that reached a steady flow: before that, the
     // profile is a loading one ("not steady" says so).
     postprocess(summary, s.v, s.failure.empty() && steady_flow);
+    if (s.failure.empty())
+      warn_if_below_mu_s(summary, steady_flow);
     if (prm.output.write_vtu)
       write_vtu(s.v);
     write_histories(s.h_disp, s.h_mu, s.h_iter);
@@ -737,7 +754,8 @@ namespace granflow::ngf::detail
       const;                                                                                         \
   template void           Problem<D>::warn_about_run(const RunState &s, const bool steady,           \
                                                      const std::string &why_not_steady);             \
-  template void           Problem<D>::warn_if_below_mu_s(const double mu_wall);                      \
+  template void           Problem<D>::warn_if_below_mu_s(const nlohmann::json &summary,              \
+                                                         const bool            steady_flow);                    \
   template void           Problem<D>::report_distortion(nlohmann::json &summary);                    \
   template Results        Problem<D>::run();                                                         \
   template double         Problem<D>::elastic_strain_scale() const;                                  \

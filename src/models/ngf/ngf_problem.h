@@ -183,8 +183,10 @@ namespace granflow::ngf::detail
     /// Warnings on how the run ended: a Newton failure, no steady state, large increments.
     void
     warn_about_run(const RunState &s, bool steady, const std::string &why_not_steady);
+    /// The warning for a stress ratio tau / p at the driven wall (the summary's mu_wall_local,
+    /// set by postprocess()) below mu_s, unless the fluidity conditions feed fluidity in.
     void
-    warn_if_below_mu_s(double mu_wall);
+    warn_if_below_mu_s(const nlohmann::json &summary, bool steady_flow);
     /// The 3D cells' volume-change spread, and the slice's warning when it drifts.
     void
     report_distortion(nlohmann::json &summary);
