@@ -821,6 +821,11 @@ check ngf-outward-flux-at-rest 3 "'wall: -100' (an outward flux of fluidity) has
   --set "Fluidity boundary conditions/Neumann=wall: -100"
 if [ ! -e ngf_flux ]; then pass "ngf nothing written before any increment";
 else fail "ngf nothing written before any increment"; ls -a ngf_flux; fi
+# A value far out of scale passes its check (any finite zeta) and overflows: the failure says the
+# residual was not finite and where to look, not only that Newton did not converge.
+check ngf-overflow-named 3 "a residual was not finite (an overflow" "$GRANFLOW" run "$ngf_case" \
+  --output ngf_overflow --quiet --set "Output/Reference=none" \
+  --set "Fluidity boundary conditions/Neumann=wall: 1e300"
 # A fluidity source at the wall lets the material flow below mu_s: no "below mu_s" warning there,
 # while a g = 0 wall on a coarse mesh keeps it.
 check ngf-fluidity-source 0 "Results in" "$GRANFLOW" run "$ngf_case" --output ngf_source --quiet \

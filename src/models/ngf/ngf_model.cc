@@ -596,9 +596,11 @@ namespace granflow::ngf::detail
     // tolerance) but not below a tighter one, its residuals may be at their round-off floor
     // (about 5e-14 for R_u while the total deformation is small, more once it is of order 1;
     // docs/ngf.md), and a looser tolerance is the remedy.
-    const NewtonRecord *best = nullptr;
+    const NewtonRecord *best       = nullptr;
+    bool                not_finite = false;
     for (auto r = newton_log.rbegin(); r != newton_log.rend(); ++r)
       {
+        not_finite = not_finite || !std::isfinite(r->R_u) || !std::isfinite(r->R_g);
         if (!best || std::max(r->R_u, r->R_g) < std::max(best->R_u, best->R_g))
           best = &*r;
         if (r->iteration == 0)
@@ -613,6 +615,13 @@ namespace granflow::ngf::detail
             << ", they may have reached their round-off floor (docs/ngf.md): try a larger "
                "tolerance";
       }
+    // A residual that is not a number is an overflow, not a slow convergence: smaller
+    // increments do not help, and the usual cause is an input value far out of scale (a
+    // fluidity condition of 1e300 passes its check, >= 0 or any finite zeta, and overflows).
+    if (not_finite)
+      s << "; a residual was not finite (an overflow, which smaller increments do not cure): look "
+           "for a value in the case file far out of physical scale (moduli, "
+           "loading, fluidity boundary conditions)";
     // An element larger than the cooperativity length (24) does not resolve the fluidity
     // equation (23): with linear elements its matrix (xi^2 stiffness plus consistent mass) loses
     // the sign pattern that keeps g >= 0 once h exceeds sqrt(6) xi (1D), the Newton
