@@ -618,6 +618,23 @@ namespace granflow::ngf::detail
     // A residual that is not a number is an overflow, not a slow convergence: smaller
     // increments do not help, and the usual cause is an input value far out of scale (a
     // fluidity condition of 1e300 passes its check, >= 0 or any finite zeta, and overflows).
+    // An attempt that used all its iterations with the residual still falling was stopped by
+    // the cap, not by a diverging Newton: at Max Newton iterations = 1 or 2 the shear column's
+    // loading step or first increments cannot reach 1e-6 (2: R_g 1.04e-6 at the last iterate),
+    // and cutting the increment does not help.
+    if (!newton_log.empty() && best && !not_finite)
+      {
+        const NewtonRecord &last  = newton_log.back();
+        const NewtonRecord *first = &last;
+        for (auto r = newton_log.rbegin(); r != newton_log.rend() && first->iteration > 0; ++r)
+          first = &*r;
+        if (last.iteration >= prm.solver.max_iterations &&
+            std::max(last.R_u, last.R_g) < std::max(first->R_u, first->R_g))
+          s << "; the last attempt was still converging when it reached Solver/Max Newton "
+               "iterations = "
+            << prm.solver.max_iterations << ": raise it (default "
+            << solvers::NewtonOptions{}.max_iterations << ")";
+      }
     if (not_finite)
       s << "; a residual was not finite (an overflow, which smaller increments do not cure): look "
            "for a value in the case file far out of physical scale (moduli, "
