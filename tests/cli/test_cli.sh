@@ -755,6 +755,13 @@ for f in summary.json log.txt solution.pvd solution-0000.vtu profiles/velocity.c
   if [ -s "ngf_out/$f" ]; then pass "ngf output $f";
   else fail "ngf output $f missing"; fi
 done
+# newton.csv marks each retake of a cut increment (attempt > 0 at its iteration 0), one per
+# "increment cut" line of log.txt (3 in this run).
+cuts_log=$(grep -c "not converged: increment cut" ngf_out/log.txt || true)
+cuts_csv=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "attempt") a = i }
+  NR > 1 && a && $2 == 0 && $a > 0 { ++n } END { print n + 0 }' ngf_out/newton.csv)
+if [ "$cuts_log" -gt 0 ] && [ "$cuts_log" = "$cuts_csv" ]; then pass "ngf newton.csv marks cut increments"
+else fail "ngf newton.csv marks cut increments (log $cuts_log, csv $cuts_csv)"; fi
 # scripts/plot draws what a run wrote: a profile against its reference, a profile of columns
 # without one (ngf's stress.csv, one panel each); the dp run's VTU above.
 for f in out/profiles/velocity.csv ngf_out/profiles/velocity.csv ngf_out/profiles/stress.csv; do

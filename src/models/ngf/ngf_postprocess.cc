@@ -48,9 +48,16 @@ namespace granflow::ngf::detail
                                 const std::vector<double> &mu_wall,
                                 const std::vector<double> &newton_iterations)
   {
-    std::vector<double> inc, it, ru, rg, cu, cg;
+    // attempt: 0 for an increment's first try, k after its k-th cut (march() takes a cut
+    // increment again under the same number); the last attempt of each increment converged,
+    // but for a run's final failure.
+    std::vector<double> inc, it, ru, rg, cu, cg, attempt;
     for (const auto &r : newton_log)
       {
+        const bool retake = r.iteration == 0 && !inc.empty() && inc.back() == r.increment;
+        attempt.push_back(inc.empty() || inc.back() != r.increment ? 0.
+                          : retake                                 ? attempt.back() + 1.
+                                                                   : attempt.back());
         inc.push_back(r.increment);
         it.push_back(r.iteration);
         ru.push_back(r.R_u);
@@ -60,9 +67,10 @@ namespace granflow::ngf::detail
       }
     out.write_csv("history.csv", {"wall_displacement_over_d", "mu_wall", "newton_iterations"},
                   {wall_displacement, mu_wall, newton_iterations});
-    out.write_csv("newton.csv",
-                  {"increment", "iteration", "R_u", "R_g", "correction_u", "correction_g"},
-                  {inc, it, ru, rg, cu, cg});
+    out.write_csv(
+        "newton.csv",
+        {"increment", "iteration", "R_u", "R_g", "correction_u", "correction_g", "attempt"},
+        {inc, it, ru, rg, cu, cg, attempt});
   }
 
   template <int dim>
