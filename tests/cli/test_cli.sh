@@ -545,6 +545,8 @@ bad reference-bingham-needs-width-2 "Geometry/Channel width = 2" --set "Geometry
 bad reference-bingham-along-the-channel "Gravity direction = 1, 0" --set "Gravity direction=0, -1"
 bad reference-bingham-at-rest "it is at rest (the yield stress Bi reaches the wall's shear stress 1): expected Rheology/Bi in [0, 1)" \
   --set "Rheology/Bi=1"
+# the value as %g shows it (std::to_string printed 1e300 as 301 digits)
+bad reference-bingham-at-rest-large-Bi "at Rheology/Bi = 1e+300 it is at rest" --set "Rheology/Bi=1e300"
 check reference-bagnold-needs-flow 2 "with tan a > Rheology/mu (here tan a = 0.55" "$GRANFLOW" run \
   "$SOURCE_DIR/cases/daviet2016/bagnold.prm" --output keep --quiet --set "Rheology/mu=0.6"
 check reference-bagnold-needs-Bi-0 2 "'bagnold' needs Rheology/Bi = 0" "$GRANFLOW" run \

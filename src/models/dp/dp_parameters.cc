@@ -1,6 +1,7 @@
 #include "models/dp/dp_parameters.h"
 
 #include "core/errors.h"
+#include "core/format_number.h"
 #include "core/output.h"
 #include "core/parameters.h"
 #include "geometry/geometry.h"
@@ -323,7 +324,7 @@ namespace granflow::dp
           throw InputError(
               f, "Output/Reference",
               "'bingham poiseuille' compares a flowing channel, and at Rheology/Bi = " +
-                  std::to_string(rheology.Bi) +
+                  format_number(rheology.Bi) +
                   " it is at rest (the yield stress Bi reaches the wall's shear "
                   "stress 1): expected Rheology/Bi in [0, 1), or Output/Reference = "
                   "none");
@@ -343,7 +344,7 @@ namespace granflow::dp
                            "'bagnold' needs a flowing layer: Gravity direction (sin a, -cos a) "
                            "with tan a > Rheology/mu (" +
                                (g[1] < 0.
-                                    ? "here tan a = " + std::to_string(-g[0] / g[1])
+                                    ? "here tan a = " + format_number(-g[0] / g[1])
                                     : std::string("here gravity does not point into the bed")) +
                                ")");
       }

@@ -2,6 +2,7 @@
 // velocity profile, fluxes, boundary forces and drag (6.3.1), the summary and the VTU.
 #include "models/dp/dp_problem.h"
 
+#include "core/format_number.h"
 #include "core/max_abs.h"
 #include "postprocess/analytic.h"
 
@@ -513,7 +514,7 @@ namespace granflow::dp::detail
           {
             S["drag_coefficient"] = nullptr;
             S["jammed"]           = true;
-            log.print("dp: note: the flow is jammed (U_infinity = " + std::to_string(inflow.U_inf) +
+            log.print("dp: note: the flow is jammed (U_infinity = " + format_number(inflow.U_inf) +
                       "): drag_coefficient is null\n");
           }
         else

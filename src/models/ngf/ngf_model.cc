@@ -2,6 +2,7 @@
 // ngf::run().
 #include "models/ngf/ngf_problem.h"
 
+#include "core/format_number.h"
 #include "core/interrupt.h"
 #include "core/max_abs.h"
 #include "core/time_left.h"
@@ -91,7 +92,7 @@ namespace granflow::ngf::detail
     stopped_by_signal(const unsigned int converged, const double run_over_d)
     {
       return std::string("stopped by ") + interrupt::signal_name() + " after increment " +
-             std::to_string(converged - 1) + " (of a run to " + std::to_string(run_over_d) + " d)";
+             std::to_string(converged - 1) + " (of a run to " + format_number(run_over_d) + " d)";
     }
   } // namespace
 
@@ -460,9 +461,8 @@ namespace granflow::ngf::detail
     setup_system();
     const double d = scale.d;
     log.print("ngf: " + prm.geometry.shape + ", " + std::to_string(tria.n_active_cells()) +
-              (dim == 3 ? " bricks" : " generalized-axisymmetric quads") +
-              ", h/d = " + std::to_string(scale.h / d) + ", " +
-              std::to_string(dof_handler.n_dofs()) + " dofs\n");
+              (dim == 3 ? " bricks" : " generalized-axisymmetric quads") + ", h/d = " +
+              format_number(scale.h / d) + ", " + std::to_string(dof_handler.n_dofs()) + " dofs\n");
     warn_if_outside_elastic_range();
     log.table() << "Newton iterations (R_u, R_g: normalised L_inf residuals, Henann 6.1)\n"
                 << std::setw(6) << "incr" << std::setw(6) << "iter" << std::setw(12) << "R_u"
@@ -492,7 +492,7 @@ namespace granflow::ngf::detail
     report.finish(summary,
                   s.failure.empty() ? ""
                                     : s.failure + "; the last converged state (wall displacement " +
-                                          std::to_string(s.u_wall / d) + " d) is written to " +
+                                          format_number(s.u_wall / d) + " d) is written to " +
                                           out.target() + " (see log.txt)",
                   s.interrupted);
     log.print("ngf: mu_wall = " + summary["mu_wall"].dump() +
