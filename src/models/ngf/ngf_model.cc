@@ -615,9 +615,6 @@ namespace granflow::ngf::detail
             << ", they may have reached their round-off floor (docs/ngf.md): try a larger "
                "tolerance";
       }
-    // A residual that is not a number is an overflow, not a slow convergence: smaller
-    // increments do not help, and the usual cause is an input value far out of scale (a
-    // fluidity condition of 1e300 passes its check, >= 0 or any finite zeta, and overflows).
     // An attempt that used all its iterations with the residual still falling was stopped by
     // the cap, not by a diverging Newton: at Max Newton iterations = 1 or 2 the shear column's
     // loading step or first increments cannot reach 1e-6 (2: R_g 1.04e-6 at the last iterate),
@@ -635,6 +632,9 @@ namespace granflow::ngf::detail
             << prm.solver.max_iterations << ": raise it (default "
             << solvers::NewtonOptions{}.max_iterations << ")";
       }
+    // A residual that is not a number is an overflow, not a slow convergence: smaller
+    // increments do not help, and the usual cause is an input value far out of scale (a
+    // fluidity condition of 1e300 passes its check, >= 0 or any finite zeta, and overflows).
     if (not_finite)
       s << "; a residual was not finite (an overflow, which smaller increments do not cure): look "
            "for a value in the case file far out of physical scale (moduli, "
@@ -780,8 +780,7 @@ namespace granflow::ngf::detail
       const;                                                                                         \
   template void           Problem<D>::warn_about_run(const RunState &s, const bool steady,           \
                                                      const std::string &why_not_steady);             \
-  template void           Problem<D>::warn_if_below_mu_s(const nlohmann::json &summary,              \
-                                                         const bool            steady_flow);                    \
+  template void           Problem<D>::warn_if_below_mu_s(const nlohmann::json &, const bool);        \
   template void           Problem<D>::report_distortion(nlohmann::json &summary);                    \
   template Results        Problem<D>::run();                                                         \
   template double         Problem<D>::elastic_strain_scale() const;                                  \
