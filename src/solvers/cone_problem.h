@@ -93,10 +93,12 @@ namespace granflow::solvers
     double apgd_min_lipschitz_fraction = 1e-3;
     double apgd_lipschitz_decrease     = 0.9;
     /// SPG: nonmonotone Armijo search over the last spg_memory objective values, with the
-    /// sufficient-decrease constant spg_armijo; Barzilai-Borwein steps in [1/||W||, spg_max_step].
+    /// sufficient-decrease constant spg_armijo; Barzilai-Borwein steps in [1, spg_max_step] times
+    /// 1/||W|| (relative: ||W|| scales with Re; 1e7 / ||W|| is about the former absolute 1e10 at
+    /// Re = 1 on the Bingham Poiseuille mesh, ||W|| = 2.9e-4 there).
     unsigned int spg_memory   = 10;
     double       spg_armijo   = 1e-4;
-    double       spg_max_step = 1e10;
+    double       spg_max_step = 1e7;
   };
 
   /// Tunables of the interior point (cone_interior_point.cc), defaults as measured in

@@ -415,7 +415,9 @@ namespace granflow::solvers
       {
         const unsigned int     memory   = options.fixed_point.spg_memory;
         const double           armijo   = options.fixed_point.spg_armijo;
-        const double           max_step = options.fixed_point.spg_max_step;
+        // relative to the safe step 1/||W||: W scales with Re (A with 1/Re), an absolute bound
+        // would cap the BB step below 1/||W|| at small Re (and leave std::clamp's bounds reversed)
+        const double max_step = std::max(options.fixed_point.spg_max_step, 1.) / lipschitz;
         std::vector<double>    J_history{s.J};
         Vector                 d, Wd;
         unsigned int           it = 0;

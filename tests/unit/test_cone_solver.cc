@@ -277,6 +277,46 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
     EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6);
 }
 
+TEST_P(ConeSolverAllInner, ScalingAIsSolvedInTheSameIterations)
+{
+  // A -> c A (the dp model's A carries 1/Re: c = 1e12 is Re = 1e-12) leaves lambda as it is and
+  // divides u and gamma = H u by c (k = 0): W = H A^{-1} H^T -> W / c, and DP(mu, 0) is
+  // homogeneous in gamma. With gamma_scale = c the residual is the unscaled one, so each inner
+  // solver must take about the same iterations. Its step bounds must scale with 1/||W||: SPG's
+  // former absolute cap on the Barzilai-Borwein step (1e10) fell below 1/||W|| here.
+  const ConeProblemData data   = coupled_random_problem();
+  const double          c      = 1e12;
+  ConeProblemData       scaled = data;
+  for (double &a : scaled.A.value)
+    a *= c;
+  scaled.gamma_scale.assign(data.n_points(), c);
+
+  ConeSolverOptions options;
+  options.inner_solver = GetParam();
+  options.tolerance    = 1e-9;
+  ConeSolution       solution, scaled_solution;
+  std::ostringstream log, scaled_log;
+  options.log             = &log;
+  const auto stats        = solve_cone_problem(data, options, solution);
+  options.log             = &scaled_log;
+  const auto scaled_stats = solve_cone_problem(scaled, options, scaled_solution);
+  ASSERT_TRUE(stats.converged) << log.str();
+  ASSERT_TRUE(scaled_stats.converged) << scaled_log.str();
+
+  double lambda_max = 0.;
+  for (const double l : solution.lambda)
+    lambda_max = std::max(lambda_max, std::abs(l));
+  for (std::size_t j = 0; j < solution.lambda.size(); ++j)
+    EXPECT_NEAR(scaled_solution.lambda[j], solution.lambda[j], 1e-6 * lambda_max) << j;
+  for (std::size_t i = 0; i < solution.u.size(); ++i)
+    EXPECT_NEAR(c * scaled_solution.u[i], solution.u[i], 1e-6) << i;
+  EXPECT_LE(scaled_stats.inner_iterations, 2 * stats.inner_iterations + 10)
+      << "unscaled: " << stats.inner_iterations << ", scaled: " << scaled_stats.inner_iterations;
+  RecordProperty("inner_iterations_unscaled_scaled",
+                 std::to_string(stats.inner_iterations) + " " +
+                     std::to_string(scaled_stats.inner_iterations));
+}
+
 namespace
 {
   /// One constraint point in s(d) = n components with A = H = I (so W = I, gamma = lambda + w,
