@@ -100,8 +100,12 @@ namespace granflow::dp
       prm.add_parameter("Viscosity", r.viscosity,
                         "constant, or bagnold: eta = |D(u)| by fixed point (Daviet 6.1.3).",
                         Selection("constant|bagnold"));
-      prm.add_parameter("Viscosity floor", r.viscosity_floor,
-                        "Lower bound of eta for the bagnold law, > 0.", Interval::positive());
+      prm.add_parameter(
+          "Viscosity floor", r.viscosity_floor,
+          "Lower bound of eta for the bagnold law, eta = max(|D(u)|, floor), > 0, in the "
+          "unit of |D(u)|, sqrt(g / L). Bagnold's |D(u)| scales as sqrt(Re): at "
+          "small Re lower the floor with it (the run warns where it binds).",
+          Interval::positive());
     }
     prm.leave_subsection();
 
