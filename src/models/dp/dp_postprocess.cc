@@ -138,8 +138,8 @@ namespace granflow::dp::detail
     // the threshold large at its free surface).
     // A body at rest (a closed silo) has a unique velocity, 0, but not a unique stress (4.4.4):
     // any admissible field in equilibrium with the loads is a solution, and the method picks
-    // one (a closed silo's floor carried 43.1 with the interior point, 51.0 with the fixed
-    // point, of a weight of 64.5).
+    // one (a closed silo's floor carries 55.3 with the interior point, 57.5 with the fixed
+    // point, of a weight of 64.5: docs/dp.md).
     const bool all_rigid = pf.n_rigid > 0 && pf.n_flowing == 0 && pf.n_dilating == 0;
     if (all_rigid)
       {
