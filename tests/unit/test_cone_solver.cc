@@ -277,39 +277,52 @@ TEST_P(ConeSolverAllInner, CoupledProblemSatisfiesRheologyAndAgreesAcrossSolvers
     EXPECT_NEAR(solution.u[i], reference.u[i], 1e-6);
 }
 
+namespace
+{
+  /// Solves coupled_random_problem() and the same problem with A -> c A, gamma_scale = c (c =
+  /// 1e12: the dp model's A carries 1/Re, so this is Re = 1e-12). That leaves lambda as it is and
+  /// divides u and gamma = H u by c (k = 0): W = H A^{-1} H^T -> W / c, and DP(mu, 0) is
+  /// homogeneous in gamma; with gamma_scale = c the residual is the unscaled one. Expects both
+  /// to converge, to the same lambda and c u within `relative` (of lambda's size, and of 1 for
+  /// u), and returns their stats (unscaled, scaled).
+  std::pair<ConeSolverStats, ConeSolverStats>
+  expect_scaled_problem_solved(ConeSolverOptions options, const double relative)
+  {
+    const ConeProblemData data   = coupled_random_problem();
+    const double          c      = 1e12;
+    ConeProblemData       scaled = data;
+    for (double &a : scaled.A.value)
+      a *= c;
+    scaled.gamma_scale.assign(data.n_points(), c);
+
+    ConeSolution       solution, scaled_solution;
+    std::ostringstream log, scaled_log;
+    options.log             = &log;
+    const auto stats        = solve_cone_problem(data, options, solution);
+    options.log             = &scaled_log;
+    const auto scaled_stats = solve_cone_problem(scaled, options, scaled_solution);
+    EXPECT_TRUE(stats.converged) << log.str();
+    EXPECT_TRUE(scaled_stats.converged) << scaled_log.str();
+    double lambda_max = 0.;
+    for (const double l : solution.lambda)
+      lambda_max = std::max(lambda_max, std::abs(l));
+    for (std::size_t j = 0; j < solution.lambda.size(); ++j)
+      EXPECT_NEAR(scaled_solution.lambda[j], solution.lambda[j], relative * lambda_max) << j;
+    for (std::size_t i = 0; i < solution.u.size(); ++i)
+      EXPECT_NEAR(c * scaled_solution.u[i], solution.u[i], relative) << i;
+    return {stats, scaled_stats};
+  }
+} // namespace
+
 TEST_P(ConeSolverAllInner, ScalingAIsSolvedInTheSameIterations)
 {
-  // A -> c A (the dp model's A carries 1/Re: c = 1e12 is Re = 1e-12) leaves lambda as it is and
-  // divides u and gamma = H u by c (k = 0): W = H A^{-1} H^T -> W / c, and DP(mu, 0) is
-  // homogeneous in gamma. With gamma_scale = c the residual is the unscaled one, so each inner
-  // solver must take about the same iterations. Its step bounds must scale with 1/||W||: SPG's
-  // former absolute cap on the Barzilai-Borwein step (1e10) fell below 1/||W|| here.
-  const ConeProblemData data   = coupled_random_problem();
-  const double          c      = 1e12;
-  ConeProblemData       scaled = data;
-  for (double &a : scaled.A.value)
-    a *= c;
-  scaled.gamma_scale.assign(data.n_points(), c);
-
+  // Each inner solver must take about the same iterations on the scaled problem: its step
+  // bounds must scale with 1/||W||. SPG's former absolute cap on the Barzilai-Borwein step
+  // (1e10) fell below 1/||W|| here (47 inner iterations unscaled, 1 123 500 scaled).
   ConeSolverOptions options;
-  options.inner_solver = GetParam();
-  options.tolerance    = 1e-9;
-  ConeSolution       solution, scaled_solution;
-  std::ostringstream log, scaled_log;
-  options.log             = &log;
-  const auto stats        = solve_cone_problem(data, options, solution);
-  options.log             = &scaled_log;
-  const auto scaled_stats = solve_cone_problem(scaled, options, scaled_solution);
-  ASSERT_TRUE(stats.converged) << log.str();
-  ASSERT_TRUE(scaled_stats.converged) << scaled_log.str();
-
-  double lambda_max = 0.;
-  for (const double l : solution.lambda)
-    lambda_max = std::max(lambda_max, std::abs(l));
-  for (std::size_t j = 0; j < solution.lambda.size(); ++j)
-    EXPECT_NEAR(scaled_solution.lambda[j], solution.lambda[j], 1e-6 * lambda_max) << j;
-  for (std::size_t i = 0; i < solution.u.size(); ++i)
-    EXPECT_NEAR(c * scaled_solution.u[i], solution.u[i], 1e-6) << i;
+  options.inner_solver             = GetParam();
+  options.tolerance                = 1e-9;
+  const auto [stats, scaled_stats] = expect_scaled_problem_solved(options, 1e-6);
   EXPECT_LE(scaled_stats.inner_iterations, 2 * stats.inner_iterations + 10)
       << "unscaled: " << stats.inner_iterations << ", scaled: " << scaled_stats.inner_iterations;
   RecordProperty("inner_iterations_unscaled_scaled",
@@ -383,40 +396,18 @@ class ConeInteriorPointForms : public ::testing::TestWithParam<double>
 
 TEST_P(ConeInteriorPointForms, ScalingAIsSolved)
 {
-  // The interior point on the problem of ConeSolverAllInner.ScalingAIsSolvedInTheSameIterations
-  // (A -> 1e12 A, gamma_scale 1e12, as at Re = 1e-12) converges to the same lambda and c u, to
-  // the solver's tolerance. Its iterations are not the same: both forms start from points in the
-  // units of gamma (the split form from slacks of 1, the whole form from a least-squares point
-  // with W = I), 10 and 16 iterations (split), 12 and 15 (whole) here; docs/solvers.md.
-  const ConeProblemData data   = coupled_random_problem();
-  const double          c      = 1e12;
-  ConeProblemData       scaled = data;
-  for (double &a : scaled.A.value)
-    a *= c;
-  scaled.gamma_scale.assign(data.n_points(), c);
-
+  // The interior point on expect_scaled_problem_solved's problem (as at Re = 1e-12) converges to
+  // the same lambda and c u, to the solver's tolerance: two solutions each to 1e-6, which differ
+  // by up to 2e-5 of lambda's size here. Its iterations are not the same: both forms start from
+  // points in the units of gamma (the split form from slacks of 1, the whole form from a
+  // least-squares point with W = I), 10 and 16 iterations (split), 12 and 15 (whole) here;
+  // docs/solvers.md.
   ConeSolverOptions options;
   options.method                    = ConeMethod::interior_point;
   options.interior_point.split_form = GetParam();
   options.tolerance                 = 1e-6;
-  ConeSolution       solution, scaled_solution;
-  std::ostringstream log, scaled_log;
-  options.log             = &log;
-  const auto stats        = solve_cone_problem(data, options, solution);
-  options.log             = &scaled_log;
-  const auto scaled_stats = solve_cone_problem(scaled, options, scaled_solution);
-  ASSERT_TRUE(stats.converged) << log.str();
-  ASSERT_TRUE(scaled_stats.converged) << scaled_log.str();
-  EXPECT_LE(scaled_stats.outer_iterations, 2 * stats.outer_iterations) << scaled_log.str();
-  // (two solutions each to 1e-6, not one solution twice: they differ by up to 2e-5 of lambda's
-  // size here)
-  double lambda_max = 0.;
-  for (const double l : solution.lambda)
-    lambda_max = std::max(lambda_max, std::abs(l));
-  for (std::size_t j = 0; j < solution.lambda.size(); ++j)
-    EXPECT_NEAR(scaled_solution.lambda[j], solution.lambda[j], 1e-4 * lambda_max) << j;
-  for (std::size_t i = 0; i < solution.u.size(); ++i)
-    EXPECT_NEAR(c * scaled_solution.u[i], solution.u[i], 1e-4) << i;
+  const auto [stats, scaled_stats]  = expect_scaled_problem_solved(options, 1e-4);
+  EXPECT_LE(scaled_stats.outer_iterations, 2 * stats.outer_iterations);
 }
 
 TEST_P(ConeInteriorPointForms, SinglePointMatchesDisjunctiveSolution2D)
