@@ -318,7 +318,7 @@ TEST_P(ConeSolverAllInner, ScalingAIsSolvedInTheSameIterations)
 {
   // Each inner solver must take about the same iterations on the scaled problem: its step
   // bounds must scale with 1/||W||. SPG's former absolute cap on the Barzilai-Borwein step
-  // (1e10) fell below 1/||W|| here (47 inner iterations unscaled, 1 123 500 scaled).
+  // (1e10) fell below 1/||W|| here (47 inner iterations unscaled, 2905 scaled).
   ConeSolverOptions options;
   options.inner_solver             = GetParam();
   options.tolerance                = 1e-9;
