@@ -4,6 +4,7 @@
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
 #include "solvers/dense.h"
+#include "solvers/interior_point_loop.h" // detail::norm_inf
 #include "solvers/soc.h"
 #include "solvers/solve_monitor.h"
 #include "solvers/umfpack_solver.h"
@@ -303,9 +304,7 @@ namespace
     const auto scaled_stats = solve_cone_problem(scaled, options, scaled_solution);
     EXPECT_TRUE(stats.converged) << log.str();
     EXPECT_TRUE(scaled_stats.converged) << scaled_log.str();
-    double lambda_max = 0.;
-    for (const double l : solution.lambda)
-      lambda_max = std::max(lambda_max, std::abs(l));
+    const double lambda_max = detail::norm_inf(solution.lambda);
     for (std::size_t j = 0; j < solution.lambda.size(); ++j)
       EXPECT_NEAR(scaled_solution.lambda[j], solution.lambda[j], relative * lambda_max) << j;
     for (std::size_t i = 0; i < solution.u.size(); ++i)
