@@ -121,6 +121,7 @@ namespace
             tunable(fp, fpg, "spg_max_step", &F::spg_max_step),
             tunable(ip, ipg, "split_form", &I::split_form),
             tunable(ip, ipg, "whole_form_after_stall", &I::whole_form_after_stall),
+            tunable(ip, ipg, "fixed_point_after_stall", &I::fixed_point_after_stall),
             tunable(ip, ipg, "step_fraction", &I::step_fraction),
             tunable(ip, ipg, "centering_exponent", &I::centering_exponent),
             tunable(ip, ipg, "initial_margin", &I::initial_margin),

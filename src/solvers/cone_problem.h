@@ -1,5 +1,6 @@
 // The discrete DP(mu, Bi) problem of Daviet & Bertails-Descoubes 2016, (35)-(36), as plain data:
-//   A u = H^T lambda + l,   gamma = H u + k,   f_DS(lambda_i, gamma_i) = 0 at every constraint point i,
+//   A u = H^T lambda + l,   gamma = H u + k,   f_DS(lambda_i, gamma_i) = 0 at every constraint
+//   point i,
 // with H = R^{+T} B and k = R^{+T} k_D. Eliminating u gives the SOCCP (36):
 //   gamma = W lambda + w,  W = H A^{-1} H^T,  w = H A^{-1} l + k.
 // Data / Options / Stats follow So-bogus: the solver takes the three structs, tunables have their
@@ -111,11 +112,16 @@ namespace granflow::solvers
     /// (cone_interior_point.cc). The split form uses step_fraction, centering_exponent and the
     /// stall rules; the other tunables are the whole form's. Neither form is better on every
     /// problem measured (docs/solvers.md, session 24), so with whole_form_after_stall = 1 a split
-    /// solve that stalls is followed by a whole one from its own start, in the time left, and the
-    /// better of the two iterates is returned; the iteration limit (max_outer_iterations) covers
-    /// both.
+    /// solve that stalls is followed by a whole one from its own start, in the time left. With
+    /// fixed_point_after_stall = 1, where that stalls too (or the one form run stalls), Cadoux's
+    /// fixed point with interior-point steps (4.4.2) follows, started from the best iterate so
+    /// far: from there it converged on the 2591-vertex silo where both forms stall (session 42,
+    /// docs/solvers.md). The iterate of least residual is returned; the iteration limit
+    /// (max_outer_iterations) covers all stages, the fixed point's steps counted as its
+    /// iterations.
     double split_form             = 1.;
     double whole_form_after_stall = 1.;
+    double fixed_point_after_stall = 1.;
     /// Fraction of the longest step that keeps every block interior.
     double step_fraction = 0.99;
     /// Mehrotra's centring: sigma = (gap after the affine step / gap)^centering_exponent.
@@ -146,7 +152,8 @@ namespace granflow::solvers
     ResidualKind residual     = ResidualKind::fischer_burmeister; // AC is used where Bi > 0
     double       tolerance    = 1e-6;  // infinity norm of the residual over the constraint points
     unsigned int max_outer_iterations = 200; // fixed-point or interior-point iterations
-    unsigned int max_inner_iterations = 300; // per fixed-point iteration: the outer loop goes on from the warm start
+    unsigned int max_inner_iterations =
+        300; // per fixed-point iteration: the outer loop goes on from the warm start
     /// The inner SOCQP (37) is solved to inner_tolerance_factor times the current outer residual
     /// (never below tolerance / 1000): early fixed-point iterations need no accurate inner solve.
     double        inner_tolerance_factor = 0.1;
@@ -190,10 +197,11 @@ namespace granflow::solvers
   };
 
   /// Cadoux's fixed point (Algorithm 1, Section 4.4.1; Bi > 0 through the truncated cone, 4.5.2)
-  /// with the inner SOCQP min_{lambda in K} 1/2 lambda^T W lambda + lambda^T (w + (s; 0)) (37)/(43).
-  /// A is factorised once; W is applied without being assembled.
+  /// with the inner SOCQP min_{lambda in K} 1/2 lambda^T W lambda + lambda^T (w + (s; 0))
+  /// (37)/(43). A is factorised once; W is applied without being assembled.
   ConeSolverStats
-  solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution);
+  solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options,
+                     ConeSolution &solution);
 
   /// The whole problem (35) by a primal-dual interior-point method (cone_interior_point.cc): the
   /// complementarity of Corollary 1 followed along its central path, De Saxce's term mu ||gamma_T||
@@ -201,8 +209,7 @@ namespace granflow::solvers
   /// std::invalid_argument otherwise). Called by solve_cone_problem for ConeMethod::interior_point
   /// with InteriorPointTunables::split_form = 0.
   ConeSolverStats
-  solve_cone_problem_interior_point(const ConeProblemData   &data,
-                                    const ConeSolverOptions &options,
+  solve_cone_problem_interior_point(const ConeProblemData &data, const ConeSolverOptions &options,
                                     ConeSolution            &solution);
 
   /// The convex SOCQP (37)/(39) of one step of Cadoux's fixed point, De Saxce's term frozen at
@@ -247,9 +254,7 @@ namespace granflow::solvers
   /// Residual of DP(mu, Bi) at every point (lambda_i against gamma_scale_i gamma_i), infinity norm
   /// over the points of the Euclidean norms.
   double
-  cone_residual(const ConeProblemData     &data,
-                ResidualKind               kind,
-                const std::vector<double> &lambda,
+  cone_residual(const ConeProblemData &data, ResidualKind kind, const std::vector<double> &lambda,
                 const std::vector<double> &gamma);
 
   /// The least residual of the earlier and of the later half of a residual history (the later

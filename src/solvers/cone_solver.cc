@@ -57,7 +57,8 @@ namespace granflow::solvers
       DelassusOperator(const ConeProblemData &data, const CholmodSolver &A_inv)
         : data(data)
         , A_inv(A_inv)
-      {}
+      {
+      }
 
       void
       apply(Vector &out, const Vector &lambda)
@@ -87,16 +88,17 @@ namespace granflow::solvers
     };
 
     /// Anderson acceleration (type II, depth m) of the fixed point s = F(s) of Algorithm 1:
-    /// s <- F(s) - sum_j c_j (F(s_j+1) - F(s_j)), with c minimising || f - sum_j c_j (f_j+1 - f_j) ||,
-    /// f = F(s) - s. The Cadoux map F is not a contraction in general (4.4.1); plain iteration can
-    /// cycle where mu is large. s stays >= 0.
+    /// s <- F(s) - sum_j c_j (F(s_j+1) - F(s_j)), with c minimising || f - sum_j c_j (f_j+1 - f_j)
+    /// ||, f = F(s) - s. The Cadoux map F is not a contraction in general (4.4.1); plain iteration
+    /// can cycle where mu is large. s stays >= 0.
     class AndersonAcceleration
     {
     public:
       AndersonAcceleration(const unsigned int depth, const double regularization)
           : depth(depth)
           , regularization(regularization)
-      {}
+      {
+      }
 
       void
       update(Vector &s, const Vector &F_s)
@@ -179,13 +181,13 @@ namespace granflow::solvers
     }
 
     /// The product of cones K_{mu_i, Bi_i} over the constraint points, blocks of n components.
-    template <std::size_t n>
-    class ConeProduct
+    template <std::size_t n> class ConeProduct
     {
     public:
       explicit ConeProduct(const ConeProblemData &data)
         : data(data)
-      {}
+      {
+      }
 
       std::array<double, n>
       block(const Vector &x, const std::size_t i) const
@@ -200,7 +202,8 @@ namespace granflow::solvers
       {
         for (std::size_t i = 0; i < data.n_points(); ++i)
           {
-            const auto p = rheology::project_onto_truncated_cone(block(x, i), data.mu[i], data.Bi[i]);
+            const auto p =
+                rheology::project_onto_truncated_cone(block(x, i), data.mu[i], data.Bi[i]);
             std::copy(p.begin(), p.end(), x.begin() + i * n);
           }
       }
@@ -237,9 +240,9 @@ namespace granflow::solvers
             if (!data.gamma_scale.empty())
               for (auto &gj : g)
                 gj *= data.gamma_scale[i];
-            const auto f = (kind == ResidualKind::fischer_burmeister && data.Bi[i] == 0.) ?
-                             rheology::f_FB(l, g, data.mu[i]) :
-                             rheology::f_AC(l, g, data.mu[i], data.Bi[i]);
+            const auto   f  = (kind == ResidualKind::fischer_burmeister && data.Bi[i] == 0.)
+                                  ? rheology::f_FB(l, g, data.mu[i])
+                                  : rheology::f_AC(l, g, data.mu[i], data.Bi[i]);
             const double fi = rheology::norm(f);
             if (std::isnan(fi))
               return fi; // std::max would drop it, and a NaN iterate would pass as converged
@@ -266,12 +269,10 @@ namespace granflow::solvers
       }
     };
 
-    template <std::size_t n>
-    class InnerSolverImpl
+    template <std::size_t n> class InnerSolverImpl
     {
     public:
-      InnerSolverImpl(const ConeProduct<n>    &K,
-                      DelassusOperator        &W,
+      InnerSolverImpl(const ConeProduct<n> &K, DelassusOperator &W,
                       const ConeSolverOptions &options,
                       const double             lipschitz)
         : max_iterations(options.max_inner_iterations) // declared first
@@ -280,7 +281,8 @@ namespace granflow::solvers
         , options(options)
         , lipschitz(lipschitz)
         , step(1. / lipschitz)
-      {}
+      {
+      }
 
       unsigned int max_iterations; // per call; raised by the outer loop when it stalls
       /// options.max_seconds after the start of the solve: an inner solve ends there, and the
@@ -332,7 +334,8 @@ namespace granflow::solvers
       }
 
       /// Algorithm 2 with the step 1/L (L >= ||W||), followed by an exact line search along the
-      /// projected direction (t <= 1 keeps the iterate feasible); one application of W per iteration.
+      /// projected direction (t <= 1 keeps the iterate feasible); one application of W per
+      /// iteration.
       unsigned int
       solve_pg(Quadratic &s, const Vector &q, const double tolerance)
       {
@@ -377,7 +380,8 @@ namespace granflow::solvers
                 x_new.refresh(q);
                 diff = x_new.x;
                 add(diff, -1., y.x);
-                if (x_new.J <= y.J + dot(y.g, diff) + 0.5 * L * dot(diff, diff) + 1e-14 * std::abs(y.J))
+                if (x_new.J <=
+                    y.J + dot(y.g, diff) + 0.5 * L * dot(diff, diff) + 1e-14 * std::abs(y.J))
                   break;
                 L *= 2.;
               }
@@ -431,7 +435,8 @@ namespace granflow::solvers
             const double J_max = *std::max_element(J_history.begin(), J_history.end());
             double       t     = 1.;
             // (where g.d >= 0 the descent is lost in rounding: take the projected step)
-            while (gd < 0. && s.J + t * gd + 0.5 * t * t * dWd > J_max + armijo * t * gd && t > 1e-10)
+            while (gd < 0. && s.J + t * gd + 0.5 * t * t * dWd > J_max + armijo * t * gd &&
+                   t > 1e-10)
               // safeguarded quadratic interpolation: on a quadratic it is the exact minimiser
               t = dWd > 0. ? std::clamp(-gd / dWd, 0.1 * t, 0.5 * t) : 0.5 * t;
             add(s.x, t, d);
@@ -494,7 +499,8 @@ namespace granflow::solvers
 
     template <std::size_t n>
     ConeSolverStats
-    solve_blocks(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
+    solve_blocks(const ConeProblemData &data, const ConeSolverOptions &options,
+                 ConeSolution &solution)
     {
       ConeSolverStats stats;
       const auto      t0 = Clock::now();
@@ -543,12 +549,12 @@ namespace granflow::solvers
               best_gamma    = gamma;
             }
           if (options.log)
-            *options.log << std::setw(7) << stats.outer_iterations << std::setw(14) << std::scientific
-                         << std::setprecision(4) << stats.residual << std::setw(8)
-                         << stats.inner_iterations << std::setw(9) << W.applications << std::setw(13)
-                         << std::fixed << std::setprecision(3) << stats.time_history.back()
-                         << std::setw(17) << std::scientific << std::setprecision(4)
-                         << inner.last_residual << std::endl
+            *options.log << std::setw(7) << stats.outer_iterations << std::setw(14)
+                         << std::scientific << std::setprecision(4) << stats.residual
+                         << std::setw(8) << stats.inner_iterations << std::setw(9) << W.applications
+                         << std::setw(13) << std::fixed << std::setprecision(3)
+                         << stats.time_history.back() << std::setw(17) << std::scientific
+                         << std::setprecision(4) << inner.last_residual << std::endl
                          << std::defaultfloat;
           if (monitor.finished())
             break;
@@ -605,7 +611,11 @@ namespace granflow::solvers
     /// Anderson. Unlike solve_blocks, a step whose residual does not fall keeps the extrapolation's
     /// history: the steps are accurate, and dropping it there (measured on the 673-vertex silo)
     /// left the iteration at 1.3e-5 after 111 steps where it converges in 36. The interior point
-    /// starts afresh at each step (it cannot use a warm start).
+    /// starts afresh at each step (it cannot use a warm start). The loop itself starts, as
+    /// solve_blocks does, from the stress in `solution` if it has one of the problem's size (its
+    /// first s is then mu ||gamma_T|| of that stress's velocity), and from lambda = 0 otherwise.
+    /// solve_interior_point starts it so from a stalled interior point's best iterate
+    /// (docs/solvers.md).
     template <std::size_t n>
     ConeSolverStats
     solve_fixed_point_interior_point(const ConeProblemData &data, const ConeSolverOptions &options,
@@ -618,15 +628,23 @@ namespace granflow::solvers
       const ConeProduct<n> K(data);
       ConeSolverStats   stats;
       const auto        t0 = Clock::now();
-      // The starting iterate: no stress, the velocity of the load alone.
+      // Each iterate's velocity is that of its stress by the momentum balance (35a), u = A^{-1}
+      // (l + H^T lambda), and gamma = H u + k: a step's interior point satisfies (35a) only in
+      // its limit, and its solves end at 0.1 of the outer residual.
+      const CholmodSolver A_inv(data.A);
+      const auto          balance = [&](ConeSolution &it) {
+        Vector r;
+        data.H.Tvmult(r, it.lambda);
+        add(r, 1., data.l);
+        A_inv.solve(it.u, r);
+        data.H.vmult(it.gamma, it.u);
+        add(it.gamma, 1., data.k);
+      };
+      // The starting iterate: the caller's stress, or none (the velocity of the load alone).
       ConeSolution step;
-      {
-        const CholmodSolver A_inv(data.A);
-        A_inv.solve(step.u, data.l);
-      }
-      data.H.vmult(step.gamma, step.u);
-      add(step.gamma, 1., data.k);
-      step.lambda.assign(n_points * n, 0.);
+      step.lambda =
+          solution.lambda.size() == n_points * n ? solution.lambda : Vector(n_points * n, 0.);
+      balance(step);
       stats.time_factorize = seconds_since(t0);
 
       if (options.log)
@@ -666,6 +684,7 @@ namespace granflow::solvers
           if (options.max_seconds > 0.)
             inner.max_seconds = std::max(options.max_seconds - seconds_since(t1), 1e-3);
           const ConeSolverStats in = solve_frozen_cone_problem_interior_point(data, s, inner, step);
+          balance(step);
           inner_residual           = in.residual;
           stats.inner_iterations += in.outer_iterations;
           stats.operator_applications += in.operator_applications;
@@ -676,90 +695,159 @@ namespace granflow::solvers
       return stats;
     }
 
-    /// The interior point in the form InteriorPointTunables chooses: the split form, and, where it
-    /// stalls, the whole form from its own start in the time left; the iterate of least residual
-    /// is returned, and the statistics are the two solves' together.
+    /// Appends the statistics of a later stage of solve_interior_point's chain to the chain's:
+    /// the histories on the chain's clock (from the start of its first solve, after that solve's
+    /// setup: a later stage's setup is part of the chain's solve), the iteration counts and W
+    /// applications summed, the least residual, and the way the later stage ended. `stalls`
+    /// gathers the stages' stall reasons; the chain's is theirs when its last stage stalled.
+    void
+    append_stage(ConeSolverStats &chain, const ConeSolverStats &stage, const std::string &name,
+                 std::string &stalls)
+    {
+      const double start = chain.time_solve + stage.time_factorize;
+      for (const double t : stage.time_history)
+        chain.time_history.push_back(start + t);
+      chain.residual_history.insert(chain.residual_history.end(), stage.residual_history.begin(),
+                                    stage.residual_history.end());
+      chain.time_solve += stage.time_factorize + stage.time_solve;
+      chain.outer_iterations += stage.outer_iterations;
+      chain.inner_iterations += stage.inner_iterations;
+      chain.operator_applications += stage.operator_applications;
+      if (stage.residual < chain.residual || std::isnan(chain.residual))
+        chain.residual = stage.residual;
+      chain.converged   = stage.converged;
+      chain.interrupted = stage.interrupted;
+      chain.timed_out   = stage.timed_out;
+      chain.stalled     = stage.stalled;
+      stalls += "; then " + name + ": " + stage.stall_reason;
+      chain.stall_reason = stage.stalled ? stalls : std::string();
+    }
+
+    /// The interior point in the form InteriorPointTunables chooses, as a chain of stages each
+    /// started only where the one before stalled, in the iterations and time left:
+    /// 1. the split form (split_form = 1, the default; 0: the whole form alone, no stage 2);
+    /// 2. the whole form from its own start (whole_form_after_stall);
+    /// 3. Cadoux's fixed point with interior-point steps (4.4.2) from the best iterate so far
+    ///    (fixed_point_after_stall).
+    /// Stages 2 and 3 need mu > 0 and Bi = 0 (the whole form's scope; each fixed-point step is a
+    /// whole-form solve). The iterate of least residual is returned; the statistics are the
+    /// stages' together: outer_iterations counts the interior-point iterations of stages 1-2 and
+    /// the fixed-point steps of stage 3, inner_iterations the interior-point iterations inside
+    /// those steps, and max_outer_iterations bounds outer_iterations.
     ConeSolverStats
     solve_interior_point(const ConeProblemData &data, const ConeSolverOptions &options,
                          ConeSolution &solution)
     {
       const InteriorPointTunables &tune = options.interior_point;
+      ConeSolverStats              stats;
+      std::string                  stage = "split form";
       if (tune.split_form == 0.)
         {
           // The whole form factorises an augmented matrix that stays regular when A is singular,
           // and would end unconverged; one Cholesky factorisation of A refuses such an A first
           // (NotPositiveDefinite), as the split form's own factorisation of A does.
           const CholmodSolver definiteness_check(data.A);
-          return solve_cone_problem_interior_point(data, options, solution);
+          stats = solve_cone_problem_interior_point(data, options, solution);
+          stage = "whole form";
         }
-      ConeSolverStats split = solve_cone_problem_split_interior_point(data, options, solution);
-      // The split form's solve, its setup (time_factorize) included, counts against the time limit
-      const double split_time = split.time_factorize + split.time_solve;
-      // ... as its iterations count against the iteration limit. The whole form is started only
-      // if the time left would hold its setup and one iteration, estimated by the split form's
-      // (both factorise A or a matrix of its pattern first, then one matrix per iteration); its
-      // own limit, which its solve measures from after its setup, is what is left after that
-      // setup.
-      const double split_iteration =
-          split.outer_iterations > 0 ? split.time_solve / split.outer_iterations : 0.;
-      const bool no_time =
-          options.max_seconds > 0. &&
-          split_time + split.time_factorize + split_iteration >= options.max_seconds;
+      else
+        stats = solve_cone_problem_split_interior_point(data, options, solution);
+      std::string stalls = stage + ": " + stats.stall_reason;
+      // A later stage is started only if the time left would hold its setup and one iteration,
+      // estimated by the first stage's (each factorises A or a matrix of its pattern first, then
+      // one matrix per iteration); its own limit, which its solve measures from after its setup,
+      // is what is left after that setup.
+      const double setup = stats.time_factorize;
+      const double iteration =
+          stats.outer_iterations > 0 ? stats.time_solve / stats.outer_iterations : 0.;
+      const auto used = [&] { return stats.time_factorize + stats.time_solve; };
       // The whole form handles mu > 0 and Bi = 0 only (a Bingham material has no other).
       const bool whole_applies =
           detail::interior_point_handles(data, detail::InteriorPointForm::whole);
-      if (!split.stalled || tune.whole_form_after_stall == 0. || !whole_applies ||
-          split.outer_iterations >= options.max_outer_iterations || no_time)
+      // Whether the stage `next` follows a stalled chain, and if it does not, why, in the log.
+      const auto follows = [&](const double enabled, const std::string &next) {
+        if (!stats.stalled || enabled == 0. ||
+            stats.outer_iterations >= options.max_outer_iterations)
+          return false;
+        const bool no_time =
+            options.max_seconds > 0. && used() + setup + iteration >= options.max_seconds;
+        if (options.log && (!whole_applies || no_time))
+          *options.log << "  the " << stage << " stalled at " << stats.residual << " ("
+                       << stats.stall_reason << ") after " << used() << " s: "
+                       << (whole_applies
+                               ? "too little of the time limit is left for the " + next
+                               : "the " + next + ", which needs mu > 0 and Bi = 0, does not apply")
+                       << "\n";
+        return whole_applies && !no_time;
+      };
+      // A later stage's options: the iterations and time left (its setup, if it has one, not
+      // counted in its own limit).
+      const auto later_options = [&](const double stage_setup) {
+        ConeSolverOptions o    = options;
+        o.max_outer_iterations = options.max_outer_iterations - stats.outer_iterations;
+        if (options.max_seconds > 0.)
+          o.max_seconds = options.max_seconds - used() - stage_setup;
+        return o;
+      };
+
+      if (tune.split_form != 0. && follows(tune.whole_form_after_stall, "whole form"))
         {
-          if (split.stalled && tune.whole_form_after_stall != 0. && options.log &&
-              split.outer_iterations < options.max_outer_iterations)
-            *options.log << "  the split form stalled at " << split.residual << " ("
-                         << split.stall_reason << ") after " << split_time << " s: "
-                         << (whole_applies
-                                 ? "too little of the time limit is left for the whole form"
-                                 : "the whole form, which needs mu > 0 and Bi = 0, does not apply")
-                         << "\n";
-          return split;
+          ConeSolverOptions whole_options         = later_options(setup);
+          whole_options.interior_point.split_form = 0.;
+          // Progress counts on from the split form's iterations. Its last step, the one that
+          // stalled, was not evaluated, so the whole form's starting point takes that number.
+          const unsigned int before = stats.outer_iterations;
+          if (options.progress)
+            whole_options.progress = [&](const unsigned int k, const double residual) {
+              options.progress(before + k, residual);
+            };
+          if (options.log)
+            *options.log << "  the split form stalled at " << stats.residual << " ("
+                         << stats.stall_reason << ") after " << stats.outer_iterations
+                         << " iterations and " << used()
+                         << " s: the whole form, from its own start (its table counts iterations "
+                            "and time from there)\n";
+          ConeSolution          whole_solution;
+          const ConeSolverStats whole =
+              solve_cone_problem_interior_point(data, whole_options, whole_solution);
+          if (whole.residual < stats.residual || std::isnan(stats.residual))
+            solution = std::move(whole_solution);
+          append_stage(stats, whole, "whole form", stalls);
+          stage = "whole form";
         }
-      ConeSolverOptions whole_options         = options;
-      whole_options.interior_point.split_form = 0.;
-      whole_options.max_outer_iterations = options.max_outer_iterations - split.outer_iterations;
-      if (options.max_seconds > 0.)
-        whole_options.max_seconds = options.max_seconds - split_time - split.time_factorize;
-      // Progress counts on from the split form's iterations. Its last step, the one that stalled,
-      // was not evaluated, so the whole form's starting point takes that number.
-      if (options.progress)
-        whole_options.progress = [&](const unsigned int iteration, const double residual) {
-          options.progress(split.outer_iterations + iteration, residual);
-        };
-      if (options.log)
-        *options.log << "  the split form stalled at " << split.residual << " ("
-                     << split.stall_reason << ") after " << split.outer_iterations
-                     << " iterations and " << split_time
-                     << " s: the whole form, from its own start (its table counts iterations and "
-                        "time from there)\n";
-      ConeSolution    whole_solution;
-      ConeSolverStats stats =
-          solve_cone_problem_interior_point(data, whole_options, whole_solution);
-      if (stats.residual < split.residual || std::isnan(split.residual))
-        solution = std::move(whole_solution);
-      else
-        stats.residual = split.residual;
-      if (stats.stalled)
-        stats.stall_reason =
-            "split form: " + split.stall_reason + "; then whole form: " + stats.stall_reason;
-      stats.outer_iterations += split.outer_iterations;
-      stats.operator_applications += split.operator_applications;
-      // Times from the start of the split form's solve, as its own history is: the whole form's
-      // setup is part of the solve.
-      for (double &t : stats.time_history)
-        t += split.time_solve + stats.time_factorize;
-      stats.time_solve += split.time_solve + stats.time_factorize;
-      stats.time_factorize = split.time_factorize;
-      stats.residual_history.insert(stats.residual_history.begin(), split.residual_history.begin(),
-                                    split.residual_history.end());
-      stats.time_history.insert(stats.time_history.begin(), split.time_history.begin(),
-                                split.time_history.end());
+
+      // (from a finite iterate only)
+      if (std::isfinite(stats.residual) && follows(tune.fixed_point_after_stall, "fixed point"))
+        {
+          ConeSolverOptions fp_options = later_options(setup); // (it factorises A first)
+          fp_options.method            = ConeMethod::fixed_point;
+          fp_options.inner_solver      = InnerSolver::interior_point;
+          // The fixed point records its start, the best iterate so far, first: that one is
+          // numbered already, and each step's iterate takes the next number.
+          const unsigned int before = stats.outer_iterations;
+          if (options.progress)
+            fp_options.progress = [&](const unsigned int k, const double residual) {
+              if (k > 0)
+                options.progress(before + k - 1, residual);
+            };
+          if (options.log)
+            *options.log << "  the " << stage << " stalled at " << stats.residual << " ("
+                         << stats.stall_reason << "), " << stats.outer_iterations
+                         << " iterations and " << used()
+                         << " s in all: Cadoux's fixed point with interior-point steps, from the "
+                            "best iterate (its table counts steps and time from there)\n";
+          // Its start, the best iterate's stress, with the velocity of the momentum balance: the
+          // whole form's own velocity satisfies that balance only in the limit, so that start's
+          // residual can be above the whole form's. The iterate of least residual is kept.
+          ConeSolution          fp_solution = solution;
+          const ConeSolverStats fp =
+              data.block_size == 3
+                  ? solve_fixed_point_interior_point<3>(data, fp_options, fp_solution)
+                  : solve_fixed_point_interior_point<6>(data, fp_options, fp_solution);
+          if (fp.residual < stats.residual)
+            solution = std::move(fp_solution);
+          append_stage(stats, fp, "fixed point", stalls);
+        }
       return stats;
     }
   } // namespace
@@ -782,7 +870,8 @@ namespace granflow::solvers
   }
 
   ConeSolverStats
-  solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options, ConeSolution &solution)
+  solve_cone_problem(const ConeProblemData &data, const ConeSolverOptions &options,
+                     ConeSolution &solution)
   {
     if (options.method == ConeMethod::interior_point)
       return solve_interior_point(data, options, solution);
@@ -797,7 +886,8 @@ namespace granflow::solvers
   }
 
   double
-  cone_residual(const ConeProblemData &data, const ResidualKind kind, const Vector &lambda, const Vector &gamma)
+  cone_residual(const ConeProblemData &data, const ResidualKind kind, const Vector &lambda,
+                const Vector &gamma)
   {
     if (data.block_size == 3)
       return ConeProduct<3>(data).residual(kind, lambda, gamma);

@@ -174,7 +174,8 @@ namespace
   /// Expects the returned u to be A^{-1}(H^T lambda + l) (35a) to `tolerance`; returns the strain
   /// rate gamma = H u (k = 0) recomputed from it, for the rheology checks.
   std::vector<double>
-  expect_velocity_of_stress(const ConeProblemData &data, const ConeSolution &solution, const double tolerance)
+  expect_velocity_of_stress(const ConeProblemData &data, const ConeSolution &solution,
+                            const double tolerance)
   {
     std::vector<double> gamma, rhs, u;
     data.H.vmult(gamma, solution.u);
@@ -208,7 +209,8 @@ namespace
 } // namespace
 
 class ConeSolverAllInner : public ::testing::TestWithParam<InnerSolver>
-{};
+{
+};
 
 TEST_P(ConeSolverAllInner, SinglePointMatchesDisjunctiveSolution)
 {
@@ -229,7 +231,8 @@ TEST_P(ConeSolverAllInner, SinglePointMatchesDisjunctiveSolution)
       std::ostringstream log;
       options.log      = &log;
       const auto stats = solve_cone_problem(data, options, solution);
-      ASSERT_TRUE(stats.converged) << "trial " << trial << " mu " << mu << " Bi " << Bi << "\n" << log.str();
+      ASSERT_TRUE(stats.converged) << "trial " << trial << " mu " << mu << " Bi " << Bi << "\n"
+                                   << log.str();
       const auto expected = single_point_lambda(w, mu, Bi);
       for (int c = 0; c < 3; ++c)
         EXPECT_NEAR(solution.lambda[c], expected[c], 1e-8) << "trial " << trial << " mu " << mu;
@@ -370,7 +373,8 @@ namespace
         ConeSolverOptions     options;
         options.method                                = ConeMethod::interior_point;
         options.interior_point.split_form             = split_form;
-        options.interior_point.whole_form_after_stall = 0.; // the form under test alone
+        options.interior_point.whole_form_after_stall  = 0.; // the form under test alone
+        options.interior_point.fixed_point_after_stall = 0.;
         options.tolerance                             = 1e-9;
         ConeSolution       solution;
         std::ostringstream log;
@@ -432,7 +436,8 @@ TEST_P(ConeInteriorPointForms, CoupledProblemAgreesWithTheFixedPoint)
   ConeSolverOptions options;
   options.method                                = ConeMethod::interior_point;
   options.interior_point.split_form             = GetParam();
-  options.interior_point.whole_form_after_stall = 0.; // the form under test alone
+  options.interior_point.whole_form_after_stall  = 0.; // the form under test alone
+  options.interior_point.fixed_point_after_stall = 0.;
   options.tolerance                             = 1e-7;
   std::ostringstream log;
   options.log = &log;
@@ -638,7 +643,8 @@ TEST_P(ConeInteriorPointForms, ItsStallRulesAreTheOptionsTunables)
   ConeSolverOptions     options;
   options.method                                = ConeMethod::interior_point;
   options.interior_point.split_form             = GetParam();
-  options.interior_point.whole_form_after_stall = 0.; // each form alone
+  options.interior_point.whole_form_after_stall  = 0.; // each form alone
+  options.interior_point.fixed_point_after_stall = 0.;
   options.tolerance                             = 1e-7;
   ConeSolution solution;
   ASSERT_TRUE(solve_cone_problem(data, options, solution).converged);
@@ -676,10 +682,12 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
   ASSERT_TRUE(stats.converged) << log.str();
   EXPECT_EQ(log.str().find("the whole form"), std::string::npos); // the split form converged
 
-  // Both forms made to stall after 2 iterations without a gain; each alone, then the default.
+  // Both forms made to stall after 2 iterations without a gain; each alone, then the two (the
+  // fixed point that would follow them is tested below).
   ConeSolverOptions stalling                    = options;
   stalling.interior_point.stagnation_iterations = 2;
   stalling.interior_point.stagnation_ratio      = 0.;
+  stalling.interior_point.fixed_point_after_stall = 0.;
   ConeSolverOptions split_only = stalling, whole_only = stalling;
   split_only.interior_point.whole_form_after_stall = 0.;
   whole_only.interior_point.split_form             = 0.;
@@ -730,6 +738,112 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
   stats = solve_cone_problem(data, split_only, solution);
   EXPECT_EQ(stats.outer_iterations, split.outer_iterations);
   EXPECT_EQ(stats.residual, split.residual);
+}
+
+TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBestIterate)
+{
+  // The default's third stage: where the split and the whole form have stalled, Cadoux's fixed
+  // point with interior-point steps, started from the stress of the better of their iterates,
+  // with the velocity of the momentum balance (35a). Both forms are made to stall after 2
+  // iterations without a gain. The steps' own solves then stall so too, and the fixed point
+  // gains nothing here: what is checked is the chain's bookkeeping, against the two forms'
+  // chain alone (that it gains where the forms stall is measured on the silo: docs/solvers.md).
+  const ConeProblemData data = coupled_random_problem();
+  ConeSolverOptions     options;
+  options.method                               = ConeMethod::interior_point;
+  options.tolerance                            = 1e-7;
+  options.interior_point.stagnation_iterations = 2;
+  options.interior_point.stagnation_ratio      = 0.;
+  ConeSolverOptions two_forms                      = options;
+  two_forms.interior_point.fixed_point_after_stall = 0.;
+  ConeSolution forms_solution;
+  const auto   forms = solve_cone_problem(data, two_forms, forms_solution);
+  ASSERT_TRUE(forms.stalled);
+
+  std::ostringstream log;
+  options.log = &log;
+  std::vector<unsigned int> reported;
+  options.progress = [&](const unsigned int k, double) { reported.push_back(k); };
+  ConeSolution solution;
+  const auto   stats = solve_cone_problem(data, options, solution);
+  EXPECT_NE(log.str().find("s in all: Cadoux's fixed point with interior-point steps, from the "
+                           "best iterate"),
+            std::string::npos)
+      << log.str();
+  EXPECT_NE(log.str().find("Cadoux fixed point (interior point)"), std::string::npos);
+  // The fixed point's first record is its start: the forms' best stress, its velocity by (35a).
+  ConeSolution start = forms_solution;
+  {
+    std::vector<double> rhs;
+    data.H.Tvmult(rhs, start.lambda);
+    for (std::size_t i = 0; i < rhs.size(); ++i)
+      rhs[i] += data.l[i];
+    CholmodSolver(data.A).solve(start.u, rhs);
+    data.H.vmult(start.gamma, start.u); // k = 0
+  }
+  ASSERT_GT(stats.residual_history.size(), forms.residual_history.size());
+  EXPECT_DOUBLE_EQ(stats.residual_history[forms.residual_history.size()],
+                   cone_residual(data, options.residual, start.lambda, start.gamma));
+  const unsigned int steps = stats.outer_iterations - forms.outer_iterations;
+  EXPECT_GE(steps, 1u);
+  EXPECT_EQ(stats.residual_history.size(), forms.residual_history.size() + steps + 1);
+  EXPECT_GT(stats.inner_iterations, 0u); // the steps' interior-point iterations
+  EXPECT_TRUE(std::is_sorted(stats.time_history.begin(), stats.time_history.end()));
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_EQ(stats.stall_reason.find(forms.stall_reason + "; then fixed point: the least residual "
+                                                          "of its last "),
+            0u)
+      << stats.stall_reason;
+  // The least residual of all stages, and its iterate.
+  const double least =
+      *std::min_element(stats.residual_history.begin(), stats.residual_history.end());
+  EXPECT_EQ(stats.residual, least);
+  EXPECT_LE(stats.residual, forms.residual);
+  EXPECT_EQ(stats.residual, cone_residual(data, options.residual, solution.lambda, solution.gamma));
+  // Progress numbered on, each number once.
+  std::vector<unsigned int> expected(stats.outer_iterations);
+  std::iota(expected.begin(), expected.end(), 0u);
+  EXPECT_EQ(reported, expected);
+
+  // The iteration limit covers it: with no iteration left after the forms, it does not start;
+  // with one left, it takes one step.
+  ConeSolverOptions limited    = options;
+  limited.log                  = nullptr;
+  limited.progress             = nullptr;
+  limited.max_outer_iterations = forms.outer_iterations;
+  const auto capped            = solve_cone_problem(data, limited, solution);
+  EXPECT_EQ(capped.outer_iterations, forms.outer_iterations);
+  EXPECT_EQ(capped.residual, forms.residual);
+  limited.max_outer_iterations = forms.outer_iterations + 1;
+  EXPECT_EQ(solve_cone_problem(data, limited, solution).outer_iterations,
+            forms.outer_iterations + 1);
+}
+
+TEST(ConeFrozenInteriorPoint, TheFixedPointWithInteriorPointStepsStartsFromTheGivenStress)
+{
+  // As the first-order fixed point, the one with interior-point steps starts from the stress in
+  // the solution it is given (of the problem's size): from its own converged iterate it takes
+  // no step; from a perturbed one it converges again to the same velocity.
+  const ConeProblemData data = coupled_random_problem();
+  ConeSolverOptions     options;
+  options.inner_solver = InnerSolver::interior_point;
+  options.tolerance    = 1e-8;
+  ConeSolution solution;
+  const auto   cold = solve_cone_problem(data, options, solution);
+  ASSERT_TRUE(cold.converged);
+  ASSERT_GT(cold.outer_iterations, 0u);
+  ConeSolution warm = solution;
+  auto         stats = solve_cone_problem(data, options, warm);
+  EXPECT_TRUE(stats.converged);
+  EXPECT_EQ(stats.outer_iterations, 0u);
+  EXPECT_DOUBLE_EQ(stats.residual, cold.residual);
+  for (double &l : warm.lambda)
+    l *= 1.1;
+  stats = solve_cone_problem(data, options, warm);
+  EXPECT_TRUE(stats.converged);
+  EXPECT_GT(stats.residual_history.front(), options.tolerance); // it did start from there
+  for (std::size_t i = 0; i < data.A.n_rows; ++i)
+    EXPECT_NEAR(warm.u[i], solution.u[i], 5e-8);
 }
 
 namespace
@@ -1243,10 +1357,8 @@ TEST(ConeSolverNames, TheCaseFilesNamesParseAndOthersAreRejected)
 INSTANTIATE_TEST_SUITE_P(SplitAndWhole, ConeInteriorPointForms, ::testing::Values(1., 0.),
                          [](const auto &info) { return info.param != 0. ? "split" : "whole"; });
 
-INSTANTIATE_TEST_SUITE_P(InnerSolvers,
-                         ConeSolverAllInner,
-                         ::testing::Values(InnerSolver::projected_gradient,
-                                           InnerSolver::apgd,
+INSTANTIATE_TEST_SUITE_P(InnerSolvers, ConeSolverAllInner,
+                         ::testing::Values(InnerSolver::projected_gradient, InnerSolver::apgd,
                                            InnerSolver::spg));
 
 TEST(ConeSolverStop, ANanIterateNeverReplacesTheBestOne)
