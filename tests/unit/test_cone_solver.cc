@@ -742,7 +742,7 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
 
 TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBestIterate)
 {
-  // The default's third stage: where the split and the whole form have stalled, Cadoux's fixed
+  // The chain's third stage: where the split and the whole form have stalled, Cadoux's fixed
   // point with interior-point steps, started from the stress of the better of their iterates,
   // with the velocity of the momentum balance (35a). Both forms are made to stall after 2
   // iterations without a gain. The steps' own solves then stall so too, and the fixed point
@@ -752,8 +752,9 @@ TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBes
   ConeSolverOptions     options;
   options.method                               = ConeMethod::interior_point;
   options.tolerance                            = 1e-7;
-  options.interior_point.stagnation_iterations = 2;
-  options.interior_point.stagnation_ratio      = 0.;
+  options.interior_point.stagnation_iterations   = 2;
+  options.interior_point.stagnation_ratio        = 0.;
+  options.interior_point.fixed_point_after_stall = 1.; // (off by default)
   ConeSolverOptions two_forms                      = options;
   two_forms.interior_point.fixed_point_after_stall = 0.;
   ConeSolution forms_solution;
