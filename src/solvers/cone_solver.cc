@@ -631,12 +631,10 @@ namespace granflow::solvers
       // Each iterate's velocity is that of its stress by the momentum balance (35a), u = A^{-1}
       // (l + H^T lambda), and gamma = H u + k: a step's interior point satisfies (35a) only in
       // its limit, and its solves end at 0.1 of the outer residual.
-      const CholmodSolver A_inv(data.A);
-      const auto          balance = [&](ConeSolution &it) {
-        Vector r;
-        data.H.Tvmult(r, it.lambda);
-        add(r, 1., data.l);
-        A_inv.solve(it.u, r);
+      const CholmodSolver    A_inv(data.A);
+      const DelassusOperator W(data, A_inv);
+      const auto             balance = [&](ConeSolution &it) {
+        W.velocity_of(it.u, it.lambda);
         data.H.vmult(it.gamma, it.u);
         add(it.gamma, 1., data.k);
       };
