@@ -115,15 +115,14 @@ namespace granflow::solvers
     /// solve that stalls is followed by a whole one from its own start, in the time left. With
     /// fixed_point_after_stall = 1, where that stalls too (or the one form run stalls), Cadoux's
     /// fixed point with interior-point steps (4.4.2) follows, started from the best iterate so
-    /// far: from there it converged on the 2591-vertex silo where both forms stall (session 42,
-    /// docs/solvers.md). It is off by default until the stalled runs of docs/dp.md are measured
-    /// with it (`GRANFLOW_REPLAY_TUNE=interior_point.fixed_point_after_stall=1` turns it on in a
-    /// replay). The iterate of least residual is returned; the iteration limit
+    /// far: from there it converged on the 2591-vertex silo where both forms stall, and it
+    /// lowered the residual of every stalled run of docs/dp.md 4 to 40 times (sessions 42-43,
+    /// docs/solvers.md). The iterate of least residual is returned; the iteration limit
     /// (max_outer_iterations) covers all stages, the fixed point's steps counted as its
     /// iterations.
     double split_form              = 1.;
     double whole_form_after_stall  = 1.;
-    double fixed_point_after_stall = 0.;
+    double fixed_point_after_stall = 1.;
     /// Fraction of the longest step that keeps every block interior.
     double step_fraction = 0.99;
     /// Mehrotra's centring: sigma = (gap after the affine step / gap)^centering_exponent.

@@ -95,14 +95,23 @@ else fail "ctrl-c prints the measurements so far" "exit $got"; cat int.json int.
 
 # The solvers' tunables, set without recompiling: each interior-point step counted short, the
 # split form stalls after one, then the whole form after one, each says why, and the JSON records
-# the setting.
+# the setting (the fixed point that would follow turned off).
 check tune 0 '"interior_point.short_steps": 1.0' env \
-  GRANFLOW_REPLAY_TUNE="interior_point.short_step=2, interior_point.short_steps=1" \
+  GRANFLOW_REPLAY_TUNE="interior_point.short_step=2, interior_point.short_steps=1, interior_point.fixed_point_after_stall=0" \
   "$REPLAY" bagnold.bin 1e-6 ip
-if grep -q '"stall_reason": "split form: 1 successive steps were shorter than 2 .*; then whole form: 1 successive steps were shorter than 2' out.txt &&
+if grep -q '"stall_reason": "split form: 1 successive steps were shorter than 2 .*; then whole form: 1 successive steps were shorter than 2 [^;]*",' out.txt &&
   grep -q '"fixed_point_iterations": 2,' out.txt && grep -q '"stalled": true,' out.txt &&
   grep -q '"timed_out": false,' out.txt; then pass "tunables reach the solver"
 else fail "tunables reach the solver"; cat out.txt; fi
+# By default Cadoux's fixed point with interior-point steps follows the two stalled forms, its
+# steps counted as iterations after theirs.
+check tune-chain 0 '"interior_point.short_steps": 1.0' env \
+  GRANFLOW_REPLAY_TUNE="interior_point.short_step=2, interior_point.short_steps=1" \
+  "$REPLAY" bagnold.bin 1e-6 ip
+if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))[0]
+assert r["stall_reason"].startswith("split form: 1 successive") and "; then whole form: 1 successive" in r["stall_reason"] and "; then fixed point: " in r["stall_reason"], r
+assert r["fixed_point_iterations"] > 2 and r["stalled"], r' out.txt; then pass "the fixed point follows the stalled forms"
+else fail "the fixed point follows the stalled forms"; cat out.txt; fi
 # Plain Algorithm 1 (no Anderson extrapolation; an options-level tunable) and the outer
 # iterations after which each residual decade was first reached. With Anderson (the default) the
 # fixed point reaches 1e-4 here (14 iterations, 1.5 s), its last iteration the one that reached

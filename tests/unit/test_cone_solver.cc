@@ -754,7 +754,7 @@ TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBes
   options.tolerance                            = 1e-7;
   options.interior_point.stagnation_iterations   = 2;
   options.interior_point.stagnation_ratio        = 0.;
-  options.interior_point.fixed_point_after_stall = 1.; // (off by default)
+  ASSERT_EQ(options.interior_point.fixed_point_after_stall, 1.); // (the default)
   ConeSolverOptions two_forms                      = options;
   two_forms.interior_point.fixed_point_after_stall = 0.;
   ConeSolution forms_solution;
