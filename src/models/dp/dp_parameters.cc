@@ -174,9 +174,10 @@ namespace granflow::dp
           "fixed point: Cadoux's fixed point on s = mu |gamma_T| (Algorithm 1), each "
           "step a cone QP solved by the inner solver; any mu >= 0, Bi >= 0. interior "
           "point: primal-dual interior point (mu > 0 or Bi > 0) on the split form of "
-          "the law, then, where that stalls and Bi = 0, on the whole problem; reaches tight "
-          "tolerances where the fixed point stalls, but can lose its central path on fine "
-          "meshes (docs/solvers.md).",
+          "the law, then, where that stalls and Bi = 0, on the whole problem, then, where "
+          "that stalls too, Cadoux's fixed point with interior-point steps from its best "
+          "iterate; reaches tight tolerances where the fixed point stalls, but can stop "
+          "above them on fine meshes and at high friction (docs/solvers.md).",
           Selection("fixed point|interior point"));
       prm.add_parameter(
           "Inner solver", s.inner_solver,
