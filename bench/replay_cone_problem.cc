@@ -178,6 +178,8 @@ namespace
             {"fixed_point_iterations", stats.outer_iterations},
             {"stall_reason", stats.stall_reason},
             {"inner_iterations", stats.inner_iterations},
+            // interior point: its fixed-point stage's steps, in fixed_point_iterations
+            {"fixed_point_steps", stats.fixed_point_steps},
             {"W_applications", stats.operator_applications},
             {"time_per_fixed_point_iteration_s",
              stats.time_solve / std::max(1u, stats.outer_iterations)}};

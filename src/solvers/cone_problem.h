@@ -180,6 +180,10 @@ namespace granflow::solvers
     bool         timed_out             = false; // ended by options.max_seconds
     unsigned int outer_iterations     = 0;
     unsigned int inner_iterations     = 0; // summed over the outer iterations
+    /// Interior point: the steps of its fixed-point stage (InteriorPointTunables::
+    /// fixed_point_after_stall), counted in outer_iterations; the interior-point iterations
+    /// inside them are inner_iterations.
+    unsigned int fixed_point_steps     = 0;
     unsigned int operator_applications = 0; // applications of W (one A^{-1} back-solve each);
                                             // interior point: factorisations of its Newton matrix
     double       residual             = 0.;

@@ -845,6 +845,7 @@ namespace granflow::solvers
           if (fp.residual < stats.residual)
             solution = std::move(fp_solution);
           append_stage(stats, fp, "fixed point", stalls);
+          stats.fixed_point_steps = fp.outer_iterations;
         }
       return stats;
     }

@@ -110,7 +110,7 @@ check tune-chain 0 '"interior_point.short_steps": 1.0' env \
   "$REPLAY" bagnold.bin 1e-6 ip
 if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))[0]
 assert r["stall_reason"].startswith("split form: 1 successive") and "; then whole form: 1 successive" in r["stall_reason"] and "; then fixed point: " in r["stall_reason"], r
-assert r["fixed_point_iterations"] > 2 and r["stalled"], r' out.txt; then pass "the fixed point follows the stalled forms"
+assert r["fixed_point_iterations"] > 2 and r["fixed_point_steps"] == r["fixed_point_iterations"] - 2 and r["stalled"], r' out.txt; then pass "the fixed point follows the stalled forms"
 else fail "the fixed point follows the stalled forms"; cat out.txt; fi
 # Plain Algorithm 1 (no Anderson extrapolation; an options-level tunable) and the outer
 # iterations after which each residual decade was first reached. With Anderson (the default) the

@@ -787,6 +787,8 @@ TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBes
                    cone_residual(data, options.residual, start.lambda, start.gamma));
   const unsigned int steps = stats.outer_iterations - forms.outer_iterations;
   EXPECT_GE(steps, 1u);
+  EXPECT_EQ(stats.fixed_point_steps, steps);
+  EXPECT_EQ(forms.fixed_point_steps, 0u);
   EXPECT_EQ(stats.residual_history.size(), forms.residual_history.size() + steps + 1);
   EXPECT_GT(stats.inner_iterations, 0u); // the steps' interior-point iterations
   EXPECT_TRUE(std::is_sorted(stats.time_history.begin(), stats.time_history.end()));
@@ -814,6 +816,7 @@ TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBes
   limited.max_outer_iterations = forms.outer_iterations;
   const auto capped            = solve_cone_problem(data, limited, solution);
   EXPECT_EQ(capped.outer_iterations, forms.outer_iterations);
+  EXPECT_EQ(capped.fixed_point_steps, 0u);
   EXPECT_EQ(capped.residual, forms.residual);
   limited.max_outer_iterations = forms.outer_iterations + 1;
   EXPECT_EQ(solve_cone_problem(data, limited, solution).outer_iterations,

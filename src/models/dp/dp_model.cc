@@ -151,7 +151,7 @@ namespace granflow::dp::detail
     double                   change = std::numeric_limits<double>::quiet_NaN();
     double                   floored_fraction = 0.; // of the area, where |D(u)| < the floor
     solvers::ConeSolverStats stats;
-    unsigned int             outer_total = 0, inner_total = 0;
+    unsigned int             outer_total = 0, inner_total = 0, fixed_point_steps = 0;
     double                   solve_time = 0., factorize_time = 0.;
     for (;;)
       {
@@ -165,14 +165,22 @@ namespace granflow::dp::detail
         before_results.reset();
         outer_total += stats.outer_iterations;
         inner_total += stats.inner_iterations;
+        fixed_point_steps += stats.fixed_point_steps;
         solve_time += stats.time_solve;
         factorize_time += stats.time_factorize;
         ++viscosity_iterations;
         std::ostringstream s;
-        s << "  solve " << viscosity_iterations << ": "
-          << iterations(stats.outer_iterations,
-                        interior_point ? "interior-point iteration" : "fixed-point iteration")
-          << ", residual " << stats.residual << ", " << stats.time_solve << " s";
+        s << "  solve " << viscosity_iterations << ": ";
+        if (!interior_point)
+          s << iterations(stats.outer_iterations, "fixed-point iteration");
+        else if (stats.fixed_point_steps == 0)
+          s << iterations(stats.outer_iterations, "interior-point iteration");
+        else // its forms stalled, and its fixed-point stage followed (docs/solvers.md)
+          s << iterations(stats.outer_iterations - stats.fixed_point_steps,
+                          "interior-point iteration")
+            << ", then " << iterations(stats.fixed_point_steps, "fixed-point step") << " ("
+            << iterations(stats.inner_iterations, "interior-point iteration") << " in them)";
+        s << ", residual " << stats.residual << ", " << stats.time_solve << " s";
         if (!stats.converged || !bagnold)
           {
             log.print(s.str() + (stats.converged     ? "\n"
@@ -220,7 +228,11 @@ namespace granflow::dp::detail
     if (stats.stalled)
       solver_json["stall_reason"] = stats.stall_reason;
     if (interior_point)
-      solver_json["interior_point_iterations"] = outer_total;
+      {
+        // All of them: the forms', and those inside the fixed-point stage's steps.
+        solver_json["interior_point_iterations"] = outer_total - fixed_point_steps + inner_total;
+        solver_json["fixed_point_steps"]         = fixed_point_steps;
+      }
     else
       {
         solver_json["inner_solver"]           = prm.solver.inner_solver;
