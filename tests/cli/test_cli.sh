@@ -93,6 +93,14 @@ gmsh -2 readme_hopper/hopper_fine.geo -format msh41 -o readme_hopper/hopper_fine
 sed 's/hopper.msh/hopper_fine.msh/' readme_hopper/hopper.prm >readme_hopper/hopper_fine.prm
 check readme-hopper-fine-stalls-and-names-p1 3 "Solver/Stress element = P1" "$GRANFLOW" run \
   readme_hopper/hopper_fine.prm --output hopper_fine --quiet
+# There both interior-point forms stall, and the fixed point with interior-point steps follows;
+# the log and summary.json count its steps, and the interior-point iterations inside them.
+if grep -Eq "solve 1: [0-9]+ interior-point iterations, then [0-9]+ fixed-point steps \([0-9]+ interior-point iterations in them\)" \
+  hopper_fine/log.txt && /usr/bin/python3 -c "import json
+s = json.load(open('hopper_fine/summary.json'))['solver']
+assert s['fixed_point_steps'] > 0 and s['interior_point_iterations'] > s['fixed_point_steps'], s
+assert s['stall_reason'].count('; then ') == 2, s"; then pass "readme-hopper-fine counts the fixed-point steps"
+else fail "readme-hopper-fine counts the fixed-point steps"; grep "solve 1" hopper_fine/log.txt; fi
 check readme-hopper-fine-p1-converges 0 "Results in hopper_fine_p1" "$GRANFLOW" run \
   readme_hopper/hopper_fine.prm --output hopper_fine_p1 --quiet --set "Solver/Stress element=P1"
 
