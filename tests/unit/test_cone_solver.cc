@@ -171,18 +171,27 @@ namespace
       }
   }
 
+  /// u = A^{-1}(H^T lambda + l) (35a), computed here by a fresh factorisation of A.
+  std::vector<double>
+  velocity_of_stress(const ConeProblemData &data, const std::vector<double> &lambda)
+  {
+    std::vector<double> rhs, u;
+    data.H.Tvmult(rhs, lambda);
+    for (std::size_t i = 0; i < rhs.size(); ++i)
+      rhs[i] += data.l[i];
+    CholmodSolver(data.A).solve(u, rhs);
+    return u;
+  }
+
   /// Expects the returned u to be A^{-1}(H^T lambda + l) (35a) to `tolerance`; returns the strain
   /// rate gamma = H u (k = 0) recomputed from it, for the rheology checks.
   std::vector<double>
   expect_velocity_of_stress(const ConeProblemData &data, const ConeSolution &solution,
                             const double tolerance)
   {
-    std::vector<double> gamma, rhs, u;
+    std::vector<double> gamma;
     data.H.vmult(gamma, solution.u);
-    data.H.Tvmult(rhs, solution.lambda);
-    for (std::size_t i = 0; i < rhs.size(); ++i)
-      rhs[i] += data.l[i];
-    CholmodSolver(data.A).solve(u, rhs);
+    const std::vector<double> u = velocity_of_stress(data, solution.lambda);
     for (std::size_t i = 0; i < u.size(); ++i)
       EXPECT_NEAR(u[i], solution.u[i], tolerance);
     return gamma;
@@ -774,14 +783,8 @@ TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBes
   EXPECT_NE(log.str().find("Cadoux fixed point (interior point)"), std::string::npos);
   // The fixed point's first record is its start: the forms' best stress, its velocity by (35a).
   ConeSolution start = forms_solution;
-  {
-    std::vector<double> rhs;
-    data.H.Tvmult(rhs, start.lambda);
-    for (std::size_t i = 0; i < rhs.size(); ++i)
-      rhs[i] += data.l[i];
-    CholmodSolver(data.A).solve(start.u, rhs);
-    data.H.vmult(start.gamma, start.u); // k = 0
-  }
+  start.u            = velocity_of_stress(data, start.lambda);
+  data.H.vmult(start.gamma, start.u); // k = 0
   ASSERT_GT(stats.residual_history.size(), forms.residual_history.size());
   EXPECT_DOUBLE_EQ(stats.residual_history[forms.residual_history.size()],
                    cone_residual(data, options.residual, start.lambda, start.gamma));
