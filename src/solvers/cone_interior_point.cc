@@ -38,7 +38,6 @@
 #include <cmath>
 #include <iomanip>
 #include <limits>
-#include <memory>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -143,33 +142,6 @@ namespace granflow::solvers
       n_factorizations() const
       {
         return factorizations;
-      }
-
-      /// dgamma = H du, the derivative of the frozen problem's solution in the direction ds of
-      /// s: perturbing s by ds perturbs r_z by -ds e_N, and the complementarity's linearisation
-      /// W dsl + W^-1 dz = 0 keeps sl o z on its central path, so that K [du; dz] = [0; ds e_N]
-      /// with the Newton matrix K at the last iterate (factorised at the first call: the last
-      /// step's, one iterate earlier, was 0.3-1% off on the random problem). Throws
-      /// std::runtime_error if that factorisation fails.
-      void
-      gamma_derivative(const Vector &ds, Vector &dgamma)
-      {
-        if (!derivative_factorized)
-          {
-            std::vector<Block>  lambda(n_points);
-            std::vector<Matrix> W(n_points), W_inv(n_points), W_inv2(n_points);
-            evaluate(u, sl, z);
-            if (!factorize_newton_matrix(sl, z, lambda, W, W_inv, W_inv2))
-              throw std::runtime_error("the derivative's Newton matrix could not be factorised (" +
-                                       factorization_failure + ")");
-            derivative_factorized = true;
-          }
-        Vector rhs(n_u + m, 0.), x;
-        for (std::size_t i = 0; i < n_points; ++i)
-          rhs[n_u + i * n] = ds[i];
-        linear_solve(x, rhs);
-        x.resize(n_u);
-        data.H.vmult(dgamma, x);
       }
 
     private:
@@ -532,15 +504,13 @@ namespace granflow::solvers
         return t;
       }
 
-      /// The Newton matrix at (sl, z) (gamma_u current), factorised: the Nesterov-Todd scaling
-      /// W of each point (W sl = W^-1 z = lambda), W^-1 and W^-2, and the linearisation sigma of
-      /// De Saxce's term. False if the factorisation failed (factorization_failure says why).
-      bool
-      factorize_newton_matrix(const Vector &sl, const Vector &z, std::vector<Block> &lambda,
-                              std::vector<Matrix> &W, std::vector<Matrix> &W_inv,
-                              std::vector<Matrix> &W_inv2)
+      /// One Mehrotra predictor-corrector step; returns the step length taken (0: none).
+      double
+      newton_step(Vector &u, Vector &sl, Vector &z)
       {
-        std::vector<Block> sigma(n_points);
+        // evaluate() was called at (u, sl, z): gamma_u, r_x, r_z, gap are current.
+        std::vector<Block>  sigma(n_points), lambda(n_points);
+        std::vector<Matrix> W(n_points), W_inv(n_points), W_inv2(n_points);
         for (std::size_t i = 0; i < n_points; ++i)
           {
             const Block  g  = block(gamma_u, i);
@@ -566,20 +536,8 @@ namespace granflow::solvers
         catch (const std::runtime_error &e)
           {
             factorization_failure = e.what(); // named in the stall reason
-            return false;
+            return 0.;
           }
-        return true;
-      }
-
-      /// One Mehrotra predictor-corrector step; returns the step length taken (0: none).
-      double
-      newton_step(Vector &u, Vector &sl, Vector &z)
-      {
-        // evaluate() was called at (u, sl, z): gamma_u, r_x, r_z, gap are current.
-        std::vector<Block>  lambda(n_points);
-        std::vector<Matrix> W(n_points), W_inv(n_points), W_inv2(n_points);
-        if (!factorize_newton_matrix(sl, z, lambda, W, W_inv, W_inv2))
-          return 0.;
 
         Vector du, dsl(m), dz(m), rhs(n_u + m), x;
         // Solves for the complementarity right-hand side rc: W dsl + W^-1 dz = lambda \ rc.
@@ -692,7 +650,6 @@ namespace granflow::solvers
       std::string                      hand_over_reason;         // why, once it has happened
       bool                             hand_over_logged = false;
       unsigned int                     factorizations = 0;
-      bool                             derivative_factorized = false; // at the last iterate
       std::string                      factorization_failure; // UMFPACK's message, if it failed
       Vector                           u, sl, z;              // the iterate
       Vector                           gamma_u, lambda_z, r_x, r_z; // set by evaluate()
@@ -707,39 +664,11 @@ namespace granflow::solvers
     return detail::construct_and_solve<InteriorPoint>(data, options, solution);
   }
 
-  namespace
-  {
-    template <std::size_t n>
-    ConeSolverStats
-    solve_frozen(const ConeProblemData &data, const std::vector<double> &s,
-                 const ConeSolverOptions &options, ConeSolution &solution,
-                 FrozenGammaDerivative *derivative)
-    {
-      const auto t0 = Clock::now();
-      // The interior point outlives the solve where the derivative needs its factorisation; it
-      // does not keep a reference to s, which the derivative does not use.
-      const auto      ip    = std::make_shared<InteriorPoint<n>>(data, options, &s);
-      const double    setup = std::chrono::duration<double>(Clock::now() - t0).count();
-      ConeSolverStats stats = ip->solve(solution);
-      stats.time_factorize  = setup;
-      if (derivative)
-        *derivative = [ip](const std::vector<double> &ds, std::vector<double> &dgamma) {
-          ip->gamma_derivative(ds, dgamma);
-        };
-      return stats;
-    }
-  } // namespace
-
   ConeSolverStats
   solve_frozen_cone_problem_interior_point(const ConeProblemData     &data,
                                            const std::vector<double> &s,
-                                           const ConeSolverOptions &options, ConeSolution &solution,
-                                           FrozenGammaDerivative *derivative)
+                                           const ConeSolverOptions &options, ConeSolution &solution)
   {
-    if (data.block_size == 3)
-      return solve_frozen<3>(data, s, options, solution, derivative);
-    if (data.block_size == 6)
-      return solve_frozen<6>(data, s, options, solution, derivative);
-    throw std::invalid_argument("solve_cone_problem: block size must be 3 (2D) or 6 (3D)");
+    return detail::construct_and_solve<InteriorPoint>(data, options, solution, &s);
   }
 } // namespace granflow::solvers

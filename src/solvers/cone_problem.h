@@ -83,12 +83,6 @@ namespace granflow::solvers
     /// and 5e-5 for 450 iterations; docs/solvers.md). 0 never ends it so.
     unsigned int stagnation_min_iterations = 20;
     double       stagnation_ratio          = 0.5;
-    /// With interior-point steps: 1 takes Newton steps on s - F(s) = 0 instead of Anderson's,
-    /// (I - F'(s)) ds = F(s) - s solved by GMRES to outer_newton_tolerance (relative) in at most
-    /// outer_newton_iterations products, F'(s) from the step's central-path derivative.
-    double       outer_newton            = 0.;
-    double       outer_newton_tolerance  = 1e-2;
-    unsigned int outer_newton_iterations = 50;
     /// Tikhonov regularisation of Anderson's least-squares normal equations (relative).
     double anderson_regularization = 1e-10;
     /// ||W|| is estimated by this many power iterations, times norm_margin (an upper estimate
@@ -227,18 +221,11 @@ namespace granflow::solvers
   /// s (one value per point): K_mu \ni lambda _|_ gamma + s e_N \in K_{1/mu}, by the whole-form
   /// interior point with that s (its Newton matrix then symmetric quasi-definite). The residual
   /// it stops on is this problem's Fischer-Burmeister residual; `solution.gamma` is H u + k.
-  ///
-  /// If `derivative` is given, it is set to the derivative of the solution's gamma with respect
-  /// to s: derivative(ds, dgamma) sets dgamma = (d gamma / d s) ds, the tangent of the central
-  /// path at the solve's last Newton matrix (which it keeps). It refers to `data` and `options`,
-  /// which must outlive its use.
-  using FrozenGammaDerivative =
-      std::function<void(const std::vector<double> &ds, std::vector<double> &dgamma)>;
   ConeSolverStats
   solve_frozen_cone_problem_interior_point(const ConeProblemData     &data,
                                            const std::vector<double> &s,
-                                           const ConeSolverOptions &options, ConeSolution &solution,
-                                           FrozenGammaDerivative *derivative = nullptr);
+                                           const ConeSolverOptions   &options,
+                                           ConeSolution              &solution);
 
   /// The same problem by an interior point on the split form of the law (see
   /// InteriorPointTunables::split_form and cone_split_interior_point.cc), alone; same

@@ -8,7 +8,6 @@
 #include "solvers/cholmod_solver.h"
 #include "solvers/cone_problem.h"
 #include "solvers/dense.h"
-#include "solvers/gmres.h"
 #include "solvers/interior_point_loop.h"
 #include "solvers/solve_monitor.h"
 
@@ -476,41 +475,6 @@ namespace granflow::solvers
         s = F_s;
     }
 
-    /// A Newton step on f(s) = F(s) - s, F(s) = mu ||gamma_T|| of the step solved at s: (I -
-    /// F'(s)) ds = f(s) by GMRES, F'(s) ds = mu t . d gamma_T with t = gamma_T / ||gamma_T||
-    /// (0 where gamma_T = 0: there the point is rigid and d gamma_T = 0 to first order) and d
-    /// gamma from the step's derivative. s stays >= 0.
-    template <std::size_t n>
-    void
-    newton_s(const ConeProblemData &data, const ConeProduct<n> &K, const Vector &gamma,
-             const FixedPointTunables &tune, const FrozenGammaDerivative &derivative, Vector &s,
-             Vector &F_s)
-    {
-      const std::size_t n_points = data.n_points();
-      Vector            t(n_points * n, 0.), f(n_points);
-      for (std::size_t i = 0; i < n_points; ++i)
-        {
-          const auto   g  = K.block(gamma, i);
-          const double gt = rheology::norm_T(g);
-          F_s[i]          = data.mu[i] * gt;
-          f[i]            = F_s[i] - s[i];
-          if (gt > 0.)
-            for (std::size_t a = 1; a < n; ++a)
-              t[i * n + a] = data.mu[i] * g[a] / gt;
-        }
-      Vector     dgamma, ds;
-      const auto apply = [&](const Vector &v, Vector &Mv) {
-        derivative(v, dgamma);
-        Mv = v;
-        for (std::size_t i = 0; i < n_points; ++i)
-          for (std::size_t a = 1; a < n; ++a)
-            Mv[i] -= t[i * n + a] * dgamma[i * n + a];
-      };
-      detail::gmres(apply, f, ds, tune.outer_newton_tolerance, tune.outer_newton_iterations);
-      for (std::size_t i = 0; i < n_points; ++i)
-        s[i] = std::max(0., s[i] + ds[i]);
-    }
-
     /// Whether the fixed point stagnates (FixedPointTunables::stagnation_min_iterations): the
     /// least residual of the later half of its history is above stagnation_ratio times that of
     /// the earlier half. If so, `stats` is marked stalled, with the reason in words.
@@ -693,8 +657,6 @@ namespace granflow::solvers
       inner.progress             = nullptr;
       inner.max_outer_iterations = options.max_inner_iterations;
       double     inner_residual  = 0.;
-      const bool            newton          = options.fixed_point.outer_newton != 0.;
-      FrozenGammaDerivative derivative; // of the last step's solution, with outer_newton
       const auto t1              = Clock::now();
       for (;;)
         {
@@ -714,16 +676,12 @@ namespace granflow::solvers
             break;
           if (stagnated(stats, options.fixed_point)) // as the first-order steps (solve_blocks)
             break;
-          if (derivative)
-            newton_s(data, K, step.gamma, options.fixed_point, derivative, s, F_s);
-          else
-            next_s(data, K, step.gamma, options, stats.outer_iterations, anderson, s, F_s);
+          next_s(data, K, step.gamma, options, stats.outer_iterations, anderson, s, F_s);
           inner.tolerance = std::max(options.inner_tolerance_factor * stats.residual,
                                      options.fixed_point.inner_tolerance_floor * options.tolerance);
           if (options.max_seconds > 0.)
             inner.max_seconds = std::max(options.max_seconds - seconds_since(t1), 1e-3);
-          const ConeSolverStats in = solve_frozen_cone_problem_interior_point(
-              data, s, inner, step, newton ? &derivative : nullptr);
+          const ConeSolverStats in = solve_frozen_cone_problem_interior_point(data, s, inner, step);
           balance(step);
           inner_residual           = in.residual;
           stats.inner_iterations += in.outer_iterations;
