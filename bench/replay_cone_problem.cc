@@ -129,6 +129,7 @@ namespace
             tunable(ip, ipg, "short_steps", &I::short_steps),
             tunable(ip, ipg, "stagnation_iterations", &I::stagnation_iterations),
             tunable(ip, ipg, "stagnation_ratio", &I::stagnation_ratio),
+            tunable(ip, ipg, "whole_form_patience", &I::whole_form_patience),
             tunable(ip, ipg, "reduced_system", &I::reduced_system),
             tunable(ip, ipg, "refinement_steps", &I::refinement_steps),
             tunable(ip, ipg, "reduced_accuracy", &I::reduced_accuracy)};

@@ -136,6 +136,17 @@ namespace granflow::solvers
     unsigned int short_steps           = 5;
     unsigned int stagnation_iterations = 50;
     double       stagnation_ratio      = 0.9;
+    /// The whole form after a stalled split form (whole_form_after_stall) also stalls once it has
+    /// taken whole_form_patience times the split form's iterations without its least residual
+    /// going below the split form's. Where it gained on the problems measured, it went below
+    /// within about as many iterations as the split form took; on the 40265-vertex silo it never
+    /// did, in 86 iterations and 478 s (docs/solvers.md, session 43). 0: no such limit.
+    double whole_form_patience = 1.5;
+    /// Set by solve_cone_problem for the whole form from whole_form_patience, not by hand: with
+    /// beat_within > 0, the solve stalls after beat_within iterations if its least residual is not
+    /// below beat_residual.
+    unsigned int beat_within   = 0;
+    double       beat_residual = 0.;
     /// 1: each Newton system is solved through its velocity block A + H^T D W^2 B H, the stress
     /// eliminated, then refined on the augmented system [A, -H^T D; -B H, -W^-2] (at most
     /// `refinement_steps` steps) until its componentwise backward error is at most

@@ -792,6 +792,12 @@ namespace granflow::solvers
         {
           ConeSolverOptions whole_options         = later_options(setup);
           whole_options.interior_point.split_form = 0.;
+          if (tune.whole_form_patience > 0.)
+            {
+              whole_options.interior_point.beat_within = static_cast<unsigned int>(
+                  std::ceil(tune.whole_form_patience * stats.outer_iterations));
+              whole_options.interior_point.beat_residual = stats.residual;
+            }
           // Progress counts on from the split form's iterations. Its last step, the one that
           // stalled, was not evaluated, so the whole form's starting point takes that number.
           const unsigned int before = stats.outer_iterations;

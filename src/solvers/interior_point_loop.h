@@ -91,9 +91,10 @@ namespace granflow::solvers::detail
   }
 
   /// InteriorPointTunables' stall rules: a step of 0 (no step keeps the iterate interior),
-  /// `short_steps` successive steps shorter than `short_step`, or `stagnation_iterations`
+  /// `short_steps` successive steps shorter than `short_step`, `stagnation_iterations`
   /// iterations without bringing the residual below `stagnation_ratio` times its value at the last
-  /// such gain.
+  /// such gain, or (beat_within > 0) beat_within iterations without a residual below
+  /// beat_residual.
   class StallRules
   {
   public:
@@ -106,6 +107,7 @@ namespace granflow::solvers::detail
     void
     record(const double residual, const unsigned int iteration)
     {
+      least = std::min(least, residual);
       if (residual < tune.stagnation_ratio * progress_mark)
         {
           progress_mark      = residual;
@@ -119,8 +121,10 @@ namespace granflow::solvers::detail
     {
       last_step   = step;
       short_steps = step < tune.short_step ? short_steps + 1 : 0;
+      not_beaten =
+          tune.beat_within > 0 && iteration >= tune.beat_within && !(least < tune.beat_residual);
       return step == 0. || short_steps == tune.short_steps ||
-             iteration - progress_iteration >= tune.stagnation_iterations;
+             iteration - progress_iteration >= tune.stagnation_iterations || not_beaten;
     }
 
     /// Which rule ended the solve, in words; `factorization_failure`: UMFPACK's message, if a
@@ -133,6 +137,9 @@ namespace granflow::solvers::detail
         s << "the Newton matrix could not be factorised (" << factorization_failure << ")";
       else if (last_step == 0.)
         s << "no step kept the iterate interior (rounding)";
+      else if (not_beaten)
+        s << tune.beat_within << " iterations did not bring the residual below "
+          << as_written(tune.beat_residual) << " (its least: " << as_written(least) << ")";
       else if (short_steps == tune.short_steps)
         s << tune.short_steps << " successive steps were shorter than "
           << as_written(tune.short_step) << " (the iterates left the central path)";
@@ -147,6 +154,8 @@ namespace granflow::solvers::detail
     unsigned int                 short_steps = 0, progress_iteration = 0;
     double                       progress_mark = std::numeric_limits<double>::infinity();
     double                       last_step     = 0.;
+    double                       least         = std::numeric_limits<double>::infinity();
+    bool                         not_beaten    = false;
   };
 
   /// The outer loop of both interior points, from the iterate `method` holds: each iterate's

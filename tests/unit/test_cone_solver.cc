@@ -674,6 +674,21 @@ TEST_P(ConeInteriorPointForms, ItsStallRulesAreTheOptionsTunables)
   EXPECT_TRUE(stats.stalled);
   EXPECT_EQ(stats.outer_iterations, 2u);
   EXPECT_EQ(stats.stall_reason, "2 iterations gained less than 100 % on the least residual");
+
+  // The rule the chain sets for its whole form: no residual below beat_residual within
+  // beat_within iterations. None is below 0; every one is below 1e300, which changes nothing.
+  ConeSolverOptions unbeaten            = options;
+  unbeaten.interior_point.beat_within   = 3;
+  unbeaten.interior_point.beat_residual = 0.;
+  stats                                 = solve_cone_problem(data, unbeaten, solution);
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_EQ(stats.outer_iterations, 3u);
+  EXPECT_EQ(
+      stats.stall_reason.rfind("3 iterations did not bring the residual below 0 (its least: ", 0),
+      0u)
+      << stats.stall_reason;
+  unbeaten.interior_point.beat_residual = 1e300;
+  EXPECT_TRUE(solve_cone_problem(data, unbeaten, solution).converged);
 }
 
 TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
@@ -747,6 +762,29 @@ TEST(ConeInteriorPoint, AStalledSplitSolveIsFollowedByTheWholeForm)
   stats = solve_cone_problem(data, split_only, solution);
   EXPECT_EQ(stats.outer_iterations, split.outer_iterations);
   EXPECT_EQ(stats.residual, split.residual);
+
+  // A split form that stalls at its floor (tolerance 1e-13, 5 iterations without a 10 % gain),
+  // and a whole form with whole_form_patience = 0.5: half the split form's iterations are too few
+  // for it to go below the split form's least residual, and it stalls then.
+  ConeSolverOptions impatient                           = options;
+  impatient.tolerance                                   = 1e-13;
+  impatient.interior_point.stagnation_iterations        = 5;
+  impatient.interior_point.fixed_point_after_stall      = 0.;
+  impatient.interior_point.whole_form_patience          = 0.5;
+  ConeSolverOptions impatient_split                     = impatient;
+  impatient_split.interior_point.whole_form_after_stall = 0.;
+  const auto floor = solve_cone_problem(data, impatient_split, split_solution);
+  ASSERT_TRUE(floor.stalled);
+  const unsigned int patience = (floor.outer_iterations + 1) / 2;
+  stats                       = solve_cone_problem(data, impatient, solution);
+  EXPECT_TRUE(stats.stalled);
+  EXPECT_EQ(stats.outer_iterations, floor.outer_iterations + patience);
+  EXPECT_EQ(stats.residual, floor.residual);
+  EXPECT_NE(stats.stall_reason.find("then whole form: " + std::to_string(patience) +
+                                    " iterations did not bring the residual below " +
+                                    granflow::solvers::detail::as_written(floor.residual)),
+            std::string::npos)
+      << stats.stall_reason;
 }
 
 TEST(ConeInteriorPoint, AStalledInteriorPointIsFollowedByTheFixedPointFromItsBestIterate)
