@@ -792,7 +792,7 @@ namespace granflow::solvers
         {
           ConeSolverOptions whole_options         = later_options(setup);
           whole_options.interior_point.split_form = 0.;
-          if (tune.whole_form_patience > 0.)
+          if (tune.whole_form_patience > 0. && std::isfinite(stats.residual))
             {
               whole_options.interior_point.beat_within = static_cast<unsigned int>(
                   std::ceil(tune.whole_form_patience * stats.outer_iterations));
