@@ -107,7 +107,6 @@ namespace granflow::solvers::detail
     void
     record(const double residual, const unsigned int iteration)
     {
-      least = std::min(least, residual);
       if (residual < tune.stagnation_ratio * progress_mark)
         {
           progress_mark      = residual;
@@ -115,11 +114,13 @@ namespace granflow::solvers::detail
         }
     }
 
-    /// After the step of length `step` that made `iteration` steps: whether the solve stalls.
+    /// After the step of length `step` that made `iteration` steps, the least residual so far
+    /// `least_residual` (the solve's monitor keeps it): whether the solve stalls.
     bool
-    stalled(const double step, const unsigned int iteration)
+    stalled(const double step, const unsigned int iteration, const double least_residual)
     {
       last_step   = step;
+      least       = least_residual;
       short_steps = step < tune.short_step ? short_steps + 1 : 0;
       not_beaten =
           tune.beat_within > 0 && iteration >= tune.beat_within && !(least < tune.beat_residual);
@@ -154,7 +155,7 @@ namespace granflow::solvers::detail
     unsigned int                 short_steps = 0, progress_iteration = 0;
     double                       progress_mark = std::numeric_limits<double>::infinity();
     double                       last_step     = 0.;
-    double                       least         = std::numeric_limits<double>::infinity();
+    double                       least         = 0.; // as stalled() was given it
     bool                         not_beaten    = false;
   };
 
@@ -205,7 +206,7 @@ namespace granflow::solvers::detail
         method.stepped(stats.outer_iterations);
         // No step keeps the iterate interior (rounding has taken over), or the iterates have left
         // the central path and only crawl, or the residual stagnates: stop with the best iterate.
-        if (rules.stalled(step, stats.outer_iterations))
+        if (rules.stalled(step, stats.outer_iterations, monitor.least_residual()))
           {
             stats.stalled      = true;
             stats.stall_reason = rules.reason(method.failure());
