@@ -101,7 +101,8 @@ check tune 0 '"interior_point.short_steps": 1.0' env \
   "$REPLAY" bagnold.bin 1e-6 ip
 if grep -q '"stall_reason": "split form: 1 successive steps were shorter than 2 .*; then whole form: 1 successive steps were shorter than 2 [^;]*",' out.txt &&
   grep -q '"fixed_point_iterations": 2,' out.txt && grep -q '"stalled": true,' out.txt &&
-  grep -q '"timed_out": false,' out.txt; then pass "tunables reach the solver"
+  grep -q '"timed_out": false,' out.txt && grep -q '"time_per_fixed_point_step_s": null' out.txt &&
+  grep -q '"interior_point_iterations": 2,' out.txt; then pass "tunables reach the solver"
 else fail "tunables reach the solver"; cat out.txt; fi
 # By default Cadoux's fixed point with interior-point steps follows the two stalled forms, its
 # steps counted as iterations after theirs.
@@ -110,7 +111,10 @@ check tune-chain 0 '"interior_point.short_steps": 1.0' env \
   "$REPLAY" bagnold.bin 1e-6 ip
 if /usr/bin/python3 -c 'import json, sys; r = json.load(open(sys.argv[1]))[0]
 assert r["stall_reason"].startswith("split form: 1 successive") and "; then whole form: 1 successive" in r["stall_reason"] and "; then fixed point: " in r["stall_reason"], r
-assert r["fixed_point_iterations"] > 2 and r["fixed_point_steps"] == r["fixed_point_iterations"] - 2 and r["stalled"], r' out.txt; then pass "the fixed point follows the stalled forms"
+assert r["fixed_point_iterations"] > 2 and r["fixed_point_steps"] == r["fixed_point_iterations"] - 2 and r["stalled"], r
+# each kind of iteration its own time per iteration
+assert r["interior_point_iterations"] == 2 and "time_per_fixed_point_iteration_s" not in r, r
+assert r["time_per_interior_point_iteration_s"] > 0 and r["time_per_fixed_point_step_s"] > 0, r' out.txt; then pass "the fixed point follows the stalled forms"
 else fail "the fixed point follows the stalled forms"; cat out.txt; fi
 # Plain Algorithm 1 (no Anderson extrapolation; an options-level tunable) and the outer
 # iterations after which each residual decade was first reached. With Anderson (the default) the
