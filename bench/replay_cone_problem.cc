@@ -125,6 +125,7 @@ namespace
             tunable(ip, ipg, "step_fraction", &I::step_fraction),
             tunable(ip, ipg, "centering_exponent", &I::centering_exponent),
             tunable(ip, ipg, "initial_margin", &I::initial_margin),
+            tunable(ip, ipg, "warm_start_shift", &I::warm_start_shift),
             tunable(ip, ipg, "short_step", &I::short_step),
             tunable(ip, ipg, "short_steps", &I::short_steps),
             tunable(ip, ipg, "stagnation_iterations", &I::stagnation_iterations),

@@ -81,7 +81,12 @@ namespace granflow::solvers
       solve(ConeSolution &solution)
       {
         const auto t0 = Clock::now();
-        initial_point(u, sl, z); // no warm start: interior points do not profit from one
+        // The whole problem starts cold (interior points do not profit from a warm start there);
+        // a frozen step of Cadoux's fixed point may start from the step before's solution.
+        if (warm_start_applies(solution))
+          warm_point(solution, u, sl, z);
+        else
+          initial_point(u, sl, z);
         if (options.log)
           *options.log << "  interior point (Mehrotra, Nesterov-Todd scaling)\n"
                        << "   iter      residual           gap       primal         dual      step"
@@ -450,16 +455,22 @@ namespace granflow::solvers
           gap += sl[k] * z[k];
       }
 
-      /// Pushes each block of x into the interior of K_1: x_0 += max(0, ||x_bar|| - x_0) + margin.
+      /// Pushes point i's block of x into the interior of K_1: x_0 += max(0, ||x_bar|| - x_0) +
+      /// margin.
+      void
+      push_interior(Vector &x, const std::size_t i, const double margin) const
+      {
+        Block b = block(x, i);
+        b[0] += std::max(0., rheology::norm_T(b) - b[0]) + margin;
+        set_block(x, i, b);
+      }
+
+      /// Pushes each block of x into the interior of K_1 by `margin`.
       void
       make_interior(Vector &x, const double margin) const
       {
         for (std::size_t i = 0; i < n_points; ++i)
-          {
-            Block b = block(x, i);
-            b[0] += std::max(0., rheology::norm_T(b) - b[0]) + margin;
-            set_block(x, i, b);
-          }
+          push_interior(x, i, margin);
       }
 
       /// Starting point as in CVXOPT's coneqp: the least-squares solution with W = I, i.e.
@@ -491,6 +502,38 @@ namespace granflow::solvers
         const double margin = options.interior_point.initial_margin;
         make_interior(sl, margin);
         make_interior(z, margin * std::max(1., detail::norm_inf(z)));
+      }
+
+      /// Whether `solution` is a warm start to take (InteriorPointTunables::warm_start_shift):
+      /// a frozen step only, with a velocity and a stress of the problem's sizes.
+      bool
+      warm_start_applies(const ConeSolution &solution) const
+      {
+        return frozen_s && options.interior_point.warm_start_shift > 0. &&
+               solution.u.size() == n_u && solution.lambda.size() == m;
+      }
+
+      /// The warm start of a frozen step: the given velocity and stress, sl = D (gamma(u) + s e_N)
+      /// and z = D^-1 lambda, each pushed into the interior of K_1 by theta = warm_start_shift
+      /// times the step's tolerance, in the residual's units (lambda against gamma_scale_i gamma:
+      /// sl's block by theta / gamma_scale_i). So the gap starts at about the level the step is
+      /// to end below, not at the cold start's, and the step's solution, close to the previous
+      /// one's when s has changed little, is a few Newton steps away.
+      void
+      warm_point(const ConeSolution &solution, Vector &u, Vector &sl, Vector &z)
+      {
+        u = solution.u;
+        evaluate(u, Vector(m, 0.), Vector(m, 0.)); // r_z = D gamma_hat(u)
+        sl = r_z;
+        z.resize(m);
+        for (std::size_t k = 0; k < m; ++k)
+          z[k] = solution.lambda[k] / D(k);
+        const double theta = options.interior_point.warm_start_shift * options.tolerance;
+        for (std::size_t i = 0; i < n_points; ++i)
+          {
+            push_interior(sl, i, theta / (data.gamma_scale.empty() ? 1. : data.gamma_scale[i]));
+            push_interior(z, i, theta);
+          }
       }
 
       /// Largest step in [0, 1] along (dsl, dz) that keeps every block interior.

@@ -640,8 +640,8 @@ namespace granflow::solvers
       };
       // The starting iterate: the caller's stress, or none (the velocity of the load alone).
       ConeSolution step;
-      step.lambda =
-          solution.lambda.size() == n_points * n ? solution.lambda : Vector(n_points * n, 0.);
+      const bool   from_zero = solution.lambda.size() != n_points * n;
+      step.lambda            = from_zero ? Vector(n_points * n, 0.) : solution.lambda;
       balance(step);
       stats.time_factorize = seconds_since(t0);
 
@@ -681,6 +681,11 @@ namespace granflow::solvers
                                      options.fixed_point.inner_tolerance_floor * options.tolerance);
           if (options.max_seconds > 0.)
             inner.max_seconds = std::max(options.max_seconds - seconds_since(t1), 1e-3);
+          // Each step is given the last iterate as its warm start
+          // (InteriorPointTunables::warm_start_shift), the first one too unless that is the
+          // stress-free start, far from any step's solution.
+          if (from_zero && stats.outer_iterations == 0)
+            step.u.clear();
           const ConeSolverStats in = solve_frozen_cone_problem_interior_point(data, s, inner, step);
           balance(step);
           inner_residual           = in.residual;

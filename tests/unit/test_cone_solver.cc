@@ -891,6 +891,44 @@ TEST(ConeFrozenInteriorPoint, TheFixedPointWithInteriorPointStepsStartsFromTheGi
     EXPECT_NEAR(warm.u[i], solution.u[i], 5e-8);
 }
 
+TEST(ConeFrozenInteriorPoint, AWarmStartedStepReachesTheColdStepsSolutionInFewerIterations)
+{
+  // A frozen step (37) started from the solution of the step at a nearby s
+  // (InteriorPointTunables::warm_start_shift > 0, as the fixed point's later steps are) ends at
+  // the solution of the cold start: the step is convex, with a unique velocity. It takes fewer
+  // iterations, and with warm_start_shift = 0 the given solution is ignored.
+  for (const std::size_t block_size : {3u, 6u})
+    {
+      const ConeProblemData data = coupled_random_problem(block_size, block_size == 3 ? 10 : 20);
+      ConeSolverOptions     options;
+      options.tolerance            = 1e-6; // (these steps stall near 1e-7)
+      const std::vector<double> s0 = {0.1, 0.2, 0.3}, s1 = {0.1001, 0.2002, 0.3003};
+      ConeSolution              previous, cold;
+      std::ostringstream        log;
+      options.log = &log;
+      ASSERT_TRUE(solve_frozen_cone_problem_interior_point(data, s0, options, previous).converged)
+          << log.str();
+      const auto cold_stats = solve_frozen_cone_problem_interior_point(data, s1, options, cold);
+      ASSERT_TRUE(cold_stats.converged);
+
+      ConeSolverOptions warm_options               = options;
+      warm_options.interior_point.warm_start_shift = 10.;
+      ConeSolution warm                            = previous;
+      const auto   warm_stats =
+          solve_frozen_cone_problem_interior_point(data, s1, warm_options, warm);
+      EXPECT_TRUE(warm_stats.converged) << "block size " << block_size;
+      EXPECT_LT(warm_stats.outer_iterations, cold_stats.outer_iterations)
+          << "block size " << block_size;
+      for (std::size_t i = 0; i < data.A.n_rows; ++i)
+        EXPECT_NEAR(warm.u[i], cold.u[i], 1e3 * options.tolerance) << "block size " << block_size;
+
+      ConeSolution ignored   = previous;
+      const auto plain_stats = solve_frozen_cone_problem_interior_point(data, s1, options, ignored);
+      EXPECT_EQ(plain_stats.outer_iterations, cold_stats.outer_iterations);
+      EXPECT_EQ(ignored.u, cold.u);
+    }
+}
+
 namespace
 {
   /// The split form's linearised system, written out as a dense matrix over
