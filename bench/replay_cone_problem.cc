@@ -37,6 +37,7 @@ namespace
       "  (GRANFLOW_REPLAY_TUNE='interior_point.short_steps=10, fixed_point.spg_memory=20': the\n"
       "   solvers' tunables, FixedPointTunables and InteriorPointTunables in\n"
       "   src/solvers/cone_problem.h, without recompiling; fixed_point.anderson_depth,\n"
+      "   .max_outer_iterations (1000 unless set),\n"
       "   .max_inner_iterations and .inner_tolerance_factor set the fixed point's own options)\n";
 
   /// A positive finite number written in full ("1e-6", not "1e-6x"), or nothing.
@@ -101,6 +102,9 @@ namespace
     constexpr FixedPointTunables ConeSolverOptions::*fpg    = &ConeSolverOptions::fixed_point;
     constexpr InteriorPointTunables ConeSolverOptions::*ipg = &ConeSolverOptions::interior_point;
     return {option_tunable("anderson_depth", &ConeSolverOptions::anderson_depth),
+            // the limit on the outer iterations (1000 in a replay), of every method: the
+            // fixed point's iterations, or the interior point's and the chain's fixed-point steps
+            option_tunable("max_outer_iterations", &ConeSolverOptions::max_outer_iterations, 1.),
             // An inner solve of no iterations would return its starting point at every step.
             option_tunable("max_inner_iterations", &ConeSolverOptions::max_inner_iterations, 1.),
             option_tunable("inner_tolerance_factor", &ConeSolverOptions::inner_tolerance_factor),
@@ -277,6 +281,7 @@ main(int argc, char **argv)
   // GRANFLOW_REPLAY_TUNE: "name=value, ..." over the tunables' defaults, each a finite number
   // >= 0 (a whole one for counts), each name at most once.
   ConeSolverOptions tuned;
+  tuned.max_outer_iterations   = 1000;
   nlohmann::json    tuned_json = nlohmann::json::object();
   if (const char *t = std::getenv("GRANFLOW_REPLAY_TUNE"); t && *t)
     {
@@ -354,7 +359,6 @@ main(int argc, char **argv)
         options.inner_solver = parse_inner_solver(inner);
       options.tolerance            = tolerance;
       options.residual             = ResidualKind::fischer_burmeister;
-      options.max_outer_iterations = 1000;
       options.max_seconds          = max_seconds;
       options.stop_requested       = interrupt::requested;
       if (std::getenv("GRANFLOW_REPLAY_LOG"))

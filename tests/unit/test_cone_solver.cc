@@ -616,9 +616,11 @@ TEST(ConeInteriorPoint, ReducedAndAugmentedNewtonSystemsGiveTheSameIterates)
 TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint3D)
 {
   // The same kind of problem in 3D (blocks of 6, 20 dofs, 3 points): the whole form alone and the
-  // default (the split form, which stalls here at 2.15e-7 with steps of 1e-4, then the whole form)
-  // reach 1e-7 and find the u of Cadoux's fixed point; the Alart-Curnier residual of lambda and
-  // the gamma recomputed from u is small.
+  // default reach 1e-7 and find the u of Cadoux's fixed point; the Alart-Curnier residual of
+  // lambda and the gamma recomputed from u is small. In the default the split form ends near
+  // 1e-7 either way the factorisation rounds: with Debian's reference BLAS it stalls at 2.15e-7
+  // (steps of 1e-4) and the whole form finishes, with OpenBLAS it reaches 9.0e-8 itself. So the
+  // hand-over is checked where it happens (the 2D tests above force it).
   const ConeProblemData data = coupled_random_problem(6, 20);
   ConeSolverOptions     reference_options;
   reference_options.inner_solver = InnerSolver::projected_gradient;
@@ -635,8 +637,14 @@ TEST(ConeInteriorPoint, CoupledProblemAgreesWithTheFixedPoint3D)
       options.log = &log;
       ConeSolution solution;
       ASSERT_TRUE(solve_cone_problem(data, options, solution).converged) << log.str();
-      EXPECT_EQ(log.str().find("the split form stalled") != std::string::npos, split_form == 1.)
-          << log.str();
+      const bool handed_over = log.str().find("the split form stalled") != std::string::npos;
+      if (split_form == 0.)
+        EXPECT_FALSE(handed_over) << log.str();
+      else if (handed_over) // the whole form's own table follows
+        EXPECT_NE(
+            log.str().find("  interior point (Mehrotra", log.str().find("the split form stalled")),
+            std::string::npos)
+            << log.str();
       const std::vector<double> gamma = expect_velocity_of_stress(data, solution, 1e-8);
       EXPECT_LE(cone_residual(data, ResidualKind::alart_curnier, solution.lambda, gamma), 1e-7);
       for (std::size_t i = 0; i < data.A.n_rows; ++i)
@@ -909,8 +917,9 @@ TEST(ConeFrozenInteriorPoint, AWarmStartedStepReachesTheColdStepsSolutionInFewer
       options.log = &log;
       ASSERT_TRUE(solve_frozen_cone_problem_interior_point(data, s0, options, previous).converged)
           << log.str();
+      log.str("");
       const auto cold_stats = solve_frozen_cone_problem_interior_point(data, s1, options, cold);
-      ASSERT_TRUE(cold_stats.converged);
+      ASSERT_TRUE(cold_stats.converged) << "block size " << block_size << "\n" << log.str();
 
       ConeSolverOptions warm_options               = options;
       warm_options.interior_point.warm_start_shift = 10.;
